@@ -1,0 +1,40 @@
+# Two entry points for a fresh Debian 12 machine: `make demo` and `make test`.
+# Every target installs missing Debian packages first, then builds into $(BUILD_DIR).
+SHELL := /bin/bash
+BUILD_DIR ?= build
+BUILD_TYPE ?= Release
+JOBS ?= $(shell nproc)
+# Debian's ROS tools need Debian's interpreter (catkin_pkg, rospkg), not a pyenv one.
+export PATH := /usr/bin:/bin:$(PATH)
+
+.PHONY: all deps configure build test demo bench clean format
+
+all: build
+
+deps:
+	@scripts/install_deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD_DIR) -DPYTHON_EXECUTABLE=/usr/bin/python3 \
+	  -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) -DCATKIN_ENABLE_TESTING=ON > $(BUILD_DIR).configure.log 2>&1 \
+	  || { cat $(BUILD_DIR).configure.log; exit 1; }
+
+build: configure
+	@echo "[build] compiling into $(BUILD_DIR) with $(JOBS) jobs"
+	@$(MAKE) --no-print-directory -C $(BUILD_DIR) -j$(JOBS) all
+
+test: build
+	@$(MAKE) --no-print-directory -C $(BUILD_DIR) -j$(JOBS) tests
+	@scripts/run_tests.sh $(BUILD_DIR)
+
+demo: build
+	@scripts/demo.sh $(BUILD_DIR)
+
+bench: build
+	@scripts/bench.sh $(BUILD_DIR)
+
+format:
+	@find include src test bench -name '*.hpp' -o -name '*.cpp' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD_DIR) $(BUILD_DIR).configure.log

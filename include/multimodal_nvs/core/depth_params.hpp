@@ -1,0 +1,54 @@
+#pragma once
+#include <limits>
+#include <string>
+
+#include "multimodal_nvs/core/local_gp.hpp"
+
+namespace multimodal_nvs {
+
+enum class DepthModel {
+  kLocalGpMle,  ///< reference default: local GP, marginal-likelihood length scale per set
+  kKernel,      ///< reference fast mode: Gaussian kernel regression within the radius
+};
+
+const char* toString(DepthModel model);
+/// Throws InputError for an unknown name.
+DepthModel parseDepthModel(const std::string& name);
+
+/// How the targets are centred before regression: y = z - shift. Reference default: median of all
+/// finite positive depths of the loaded points (also those outside the image).
+struct DepthShift {
+  enum class Mode { kMedian, kMean, kNone, kValue };
+  Mode mode = Mode::kMedian;
+  double value = 0.0;
+
+  /// Accepts auto|median|mean|none|off|0|<number>; throws InputError otherwise.
+  static DepthShift parse(const std::string& spec);
+  std::string toString() const;
+};
+
+/// Every parameter of depth completion, with the reference's defaults. The CLI flags, the YAML
+/// files and dynamic_reconfigure all map onto this one struct.
+struct DepthCompletionParams {
+  DepthModel model = DepthModel::kLocalGpMle;
+  double radius_deg = 2.0;
+  LocalGpParams gp;
+  double kernel_length_scale_deg = 0.75;
+  DepthShift shift;
+  /// Keep this percentage of *all* grid pixels, those with the lowest variance (ties: row-major
+  /// order). 100 keeps every prediction (the reference's behaviour).
+  double retain_percent = 100.0;
+  /// Predictions with a larger variance are not valid (reference: --var-threshold, default inf).
+  double var_threshold = std::numeric_limits<double>::infinity();
+  /// 0: exact (every sample within the radius). K > 0: the documented tile approximation for dense
+  /// input: each tile of approx_tile x approx_tile grid pixels shares one set of at most K samples
+  /// (the K nearest to the tile centre) and one length scale.
+  int max_neighbors = 0;
+  int approx_tile = 16;
+  int threads = 0;  ///< 0: hardware concurrency
+
+  /// Throws InputError naming the first bad parameter.
+  void validate() const;
+};
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages the build, the tests and the demo need. Idempotent: when every
+# package is already installed it only checks and returns (no apt-get update, no network).
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config
+  ros-base-dev libnodeletlib-dev libpcl-ros-dev libcv-bridge-dev libimage-transport-dev
+  libtf2-ros-dev libtf2-sensor-msgs-dev libtf2-eigen-dev
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
+  libdiagnostic-updater-dev librosbag-dev python3-rostest rosbash
+  python3-sensor-msgs python3-std-msgs python3-geometry-msgs python3-tf2-ros python3-genpy
+  python3-rosbag python3-numpy libstd-srvs-dev python3-std-srvs python3-catkin-pkg
+  libeigen3-dev libopencv-dev libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for pkg in "${PACKAGES[@]}"; do
+  status=$(dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null || true)
+  [[ "$status" == "install ok installed" ]] || missing+=("$pkg")
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "[deps] all ${#PACKAGES[@]} Debian packages present"
+  exit 0
+fi
+
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+echo "[deps] installing ${#missing[@]} missing package(s): ${missing[*]}"
+$SUDO apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,83 @@
+#include "multimodal_nvs/core/angular_projection.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace multimodal_nvs {
+namespace {
+// numpy's degrees(): x * (180/pi) with the constant formed in the operand's precision.
+constexpr double kRadToDeg64 = 180.0 / 3.14159265358979323846;
+constexpr float kRadToDeg32 = 180.0f / 3.14159265358979323846f;
+}  // namespace
+
+std::vector<Eigen::Vector3d> transformToCamera(const std::vector<Eigen::Vector3f>& points_sensor,
+                                               const SensorToCamera& sensor_to_camera) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points_sensor.size());
+  const Eigen::Matrix3d rotation = sensor_to_camera.leftCols<3>();
+  const Eigen::Vector3d translation = sensor_to_camera.col(3);
+  for (const auto& p : points_sensor) out.emplace_back(rotation * p.cast<double>() + translation);
+  return out;
+}
+
+std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& points_camera,
+                                            std::size_t* dropped_non_finite) {
+  std::vector<AngularSample> out;
+  out.reserve(points_camera.size());
+  std::size_t dropped = 0;
+  for (const auto& p : points_camera) {
+    if (!p.allFinite()) {
+      ++dropped;
+      continue;
+    }
+    const double az = std::atan2(p.x(), p.z()) * kRadToDeg64;
+    const double el = std::atan2(-p.y(), std::sqrt(p.x() * p.x() + p.z() * p.z())) * kRadToDeg64;
+    out.push_back({static_cast<float>(az), static_cast<float>(el), static_cast<float>(p.z())});
+  }
+  if (dropped_non_finite != nullptr) *dropped_non_finite = dropped;
+  return out;
+}
+
+PixelAngleGrid::PixelAngleGrid(const PinholeIntrinsics& intrinsics, const StrideGrid& grid)
+    : intrinsics_(intrinsics), grid_(grid) {
+  const int rows = grid.rows();
+  const int cols = grid.cols();
+  azimuth_.resize(std::size_t(rows) * cols);
+  elevation_.resize(std::size_t(rows) * cols);
+  row_min_elevation_.resize(rows);
+  row_max_elevation_.resize(rows);
+  // The reference does this whole computation in float32, with the intrinsics rounded to float32.
+  const float fx = static_cast<float>(intrinsics.fx);
+  const float fy = static_cast<float>(intrinsics.fy);
+  const float cx = static_cast<float>(intrinsics.cx);
+  const float cy = static_cast<float>(intrinsics.cy);
+  for (int r = 0; r < rows; ++r) {
+    const float v = static_cast<float>(r * grid.stride);
+    const float y_n = (cy - v) / fy;
+    float min_el = INFINITY;
+    float max_el = -INFINITY;
+    for (int c = 0; c < cols; ++c) {
+      const float u = static_cast<float>(c * grid.stride);
+      const float x_n = (u - cx) / fx;
+      const float norm = std::sqrt(x_n * x_n + y_n * y_n + 1.0f);
+      const float dx = x_n / norm;
+      const float dy = y_n / norm;
+      const float dz = 1.0f / norm;
+      const float az = std::atan2(dx, dz) * kRadToDeg32;
+      const float el = std::atan2(dy, std::sqrt(dx * dx + dz * dz)) * kRadToDeg32;
+      azimuth_[std::size_t(r) * cols + c] = az;
+      elevation_[std::size_t(r) * cols + c] = el;
+      min_el = std::min(min_el, el);
+      max_el = std::max(max_el, el);
+    }
+    row_min_elevation_[r] = min_el;
+    row_max_elevation_[r] = max_el;
+  }
+}
+
+bool PixelAngleGrid::matches(const PinholeIntrinsics& k, const StrideGrid& grid) const {
+  return grid_ == grid && intrinsics_.fx == k.fx && intrinsics_.fy == k.fy &&
+         intrinsics_.cx == k.cx && intrinsics_.cy == k.cy;
+}
+
+}  // namespace multimodal_nvs

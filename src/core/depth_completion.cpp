@@ -1,0 +1,129 @@
+#include "multimodal_nvs/core/depth_completion.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "multimodal_nvs/core/depth_models.hpp"
+#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/neighbour_sets.hpp"
+#include "multimodal_nvs/core/retention.hpp"
+
+namespace multimodal_nvs {
+
+double computeShift(const DepthShift& shift, const std::vector<AngularSample>& samples) {
+  switch (shift.mode) {
+    case DepthShift::Mode::kNone:
+      return 0.0;
+    case DepthShift::Mode::kValue:
+      return shift.value;
+    case DepthShift::Mode::kMedian:
+    case DepthShift::Mode::kMean:
+      break;
+  }
+  std::vector<double> depths;
+  depths.reserve(samples.size());
+  for (const auto& s : samples) {
+    if (std::isfinite(s.depth) && s.depth > 0.0f) depths.push_back(s.depth);
+  }
+  if (depths.empty()) return 0.0;
+  if (shift.mode == DepthShift::Mode::kMean) {
+    double sum = 0.0;
+    for (double d : depths) sum += d;
+    return sum / depths.size();
+  }
+  const std::size_t mid = depths.size() / 2;
+  std::nth_element(depths.begin(), depths.begin() + mid, depths.end());
+  const double upper = depths[mid];
+  if (depths.size() % 2 == 1) return upper;
+  const double lower = *std::max_element(depths.begin(), depths.begin() + mid);
+  return 0.5 * (lower + upper);  // numpy's median of an even count
+}
+
+DepthCompleter::DepthCompleter(int threads) : pool_(std::make_unique<ThreadPool>(threads)) {}
+
+const PixelAngleGrid& DepthCompleter::pixelAngles(const PinholeIntrinsics& intrinsics,
+                                                  const StrideGrid& grid) {
+  if (!angles_ || !angles_->matches(intrinsics, grid)) {
+    angles_ = std::make_unique<PixelAngleGrid>(intrinsics, grid);
+  }
+  return *angles_;
+}
+
+namespace {
+std::size_t countInView(const std::vector<Eigen::Vector3d>& points, const PinholeIntrinsics& k,
+                        const ImageSize& image) {
+  std::size_t count = 0;
+  for (const auto& p : points) {
+    if (!p.allFinite() || !(p.z() > 0.0)) continue;
+    const double u = k.fx * p.x() / p.z() + k.cx;
+    const double v = k.fy * p.y() / p.z() + k.cy;
+    count += u >= 0.0 && v >= 0.0 && u < image.width && v < image.height;
+  }
+  return count;
+}
+}  // namespace
+
+DepthMap DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
+                                  const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
+                                  const DepthCompletionParams& params) {
+  params.validate();
+  intrinsics.validate("camera intrinsics");
+  if (grid.image.height <= 0 || grid.image.width <= 0 || grid.stride < 1) {
+    throw InputError("image size must be positive and stride >= 1");
+  }
+  const auto start = std::chrono::steady_clock::now();
+  DepthMap out;
+  out.grid = grid;
+  DepthCompletionStats& stats = out.stats;
+  stats.points_total = points_camera.size();
+  stats.points_in_view = countInView(points_camera, intrinsics, grid.image);
+  const std::vector<AngularSample> samples =
+      toAngularSamples(points_camera, &stats.points_non_finite);
+  stats.shift = computeShift(params.shift, samples);
+
+  const PixelAngleGrid& angles = pixelAngles(intrinsics, grid);
+  PixelPredictions prediction;
+  if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
+    stats.neighbour_sets = predictTiledLocalGp(samples, angles, params, stats.shift, *pool_,
+                                               prediction);
+  } else {
+    const NeighbourSets sets = NeighbourSets::build(
+        samples, angles, static_cast<float>(params.radius_deg), *pool_);
+    stats.neighbour_sets = sets.setCount();
+    if (params.model == DepthModel::kLocalGpMle) {
+      predictLocalGp(samples, angles, sets, params, stats.shift, *pool_, prediction);
+    } else {
+      predictKernel(samples, angles, sets, params, stats.shift, *pool_, prediction);
+    }
+  }
+
+  // Valid as the reference defines it, then retention among the valid pixels.
+  const std::size_t n = static_cast<std::size_t>(grid.size());
+  std::vector<std::uint8_t> candidate(n);
+  const float threshold = static_cast<float>(params.var_threshold);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float v = prediction.variance[i];
+    stats.predicted += std::isfinite(v);
+    candidate[i] = std::isfinite(v) && v <= threshold && std::isfinite(prediction.mean[i]);
+  }
+  out.valid.resize(n);
+  if (params.retain_percent >= 100.0) {
+    out.valid = candidate;
+  } else {
+    keepLowestVariance(prediction.variance.data(), candidate.data(), n,
+                       retentionCount(params.retain_percent, grid.size()), out.valid.data());
+  }
+  out.depth = std::move(prediction.mean);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!out.valid[i]) out.depth[i] = -1.0f;
+    stats.kept += out.valid[i];
+  }
+  out.variance = std::move(prediction.variance);
+  stats.pixels = grid.size();
+  stats.compute_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace multimodal_nvs

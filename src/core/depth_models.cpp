@@ -1,0 +1,153 @@
+#include "multimodal_nvs/core/depth_models.hpp"
+
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+
+#include "multimodal_nvs/core/local_gp.hpp"
+
+namespace multimodal_nvs {
+namespace {
+
+constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
+
+void resizePredictions(const PixelAngleGrid& angles, PixelPredictions& out, float mean,
+                       float variance) {
+  const std::size_t n = static_cast<std::size_t>(angles.grid().size());
+  out.mean.assign(n, mean);
+  out.variance.assign(n, variance);
+}
+
+}  // namespace
+
+std::vector<double> shiftedTargets(const std::vector<AngularSample>& samples, double shift) {
+  std::vector<double> y(samples.size());
+  const float shift32 = static_cast<float>(shift);
+  for (std::size_t i = 0; i < samples.size(); ++i) y[i] = samples[i].depth - shift32;
+  return y;
+}
+
+void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                    const NeighbourSets& sets, const DepthCompletionParams& params, double shift,
+                    ThreadPool& pool, PixelPredictions& out) {
+  const LocalGpParams& gp = params.gp;
+  resizePredictions(angles, out, static_cast<float>(shift), static_cast<float>(gp.priorVariance()));
+  const std::vector<double> targets = shiftedTargets(samples, shift);
+
+  // Storage for every set's posterior, laid out by prefix sums so sets can be solved in parallel.
+  const int set_count = sets.setCount();
+  std::vector<std::size_t> factor_offset(set_count + 1, 0), member_offset(set_count + 1, 0);
+  for (int s = 0; s < set_count; ++s) {
+    const std::size_t n = sets.setSize(s);
+    factor_offset[s + 1] = factor_offset[s] + n * (n + 1) / 2;
+    member_offset[s + 1] = member_offset[s] + n;
+  }
+  std::vector<double> factors(factor_offset[set_count]);
+  std::vector<double> betas(member_offset[set_count]);
+  std::vector<float> member_az(member_offset[set_count]), member_el(member_offset[set_count]);
+  std::vector<double> length_scales(set_count);
+  std::vector<std::uint8_t> solved(set_count, 0);
+
+  struct Workspace {
+    explicit Workspace(const LocalGpParams& p) : gp(p) {}
+    LocalGp gp;
+    std::vector<double> y, factor, beta;
+  };
+  std::vector<Workspace> workspaces(pool.size(), Workspace(gp));
+
+  pool.parallelFor(set_count, [&](long long set_index, int worker) {
+    const int s = static_cast<int>(set_index);
+    Workspace& ws = workspaces[worker];
+    const int n = sets.setSize(s);
+    const int* members = sets.members(s);
+    float* az = member_az.data() + member_offset[s];
+    float* el = member_el.data() + member_offset[s];
+    ws.y.resize(n);
+    for (int i = 0; i < n; ++i) {
+      az[i] = samples[members[i]].azimuth_deg;
+      el[i] = samples[members[i]].elevation_deg;
+      ws.y[i] = targets[members[i]];
+    }
+    ws.gp.setData(az, el, ws.y.data(), n);
+    const double length_scale = ws.gp.searchLengthScale();
+    if (!ws.gp.posterior(length_scale, ws.factor, ws.beta)) return;  // prior stays
+    std::copy(ws.factor.begin(), ws.factor.end(), factors.begin() + factor_offset[s]);
+    std::copy(ws.beta.begin(), ws.beta.end(), betas.begin() + member_offset[s]);
+    length_scales[s] = length_scale;
+    solved[s] = 1;
+  }, 2);
+
+  const int cols = angles.grid().cols();
+  pool.parallelFor(angles.grid().rows(), [&](long long row_index, int) {
+    const int row = static_cast<int>(row_index);
+    const float* az = angles.azimuthRow(row);
+    const float* el = angles.elevationRow(row);
+    for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
+      const NeighbourSegment& seg = sets.segments()[k];
+      if (!solved[seg.set_id]) continue;
+      const std::size_t pixel = std::size_t(row) * cols + seg.col_begin;
+      predictFromFactor(factors.data() + factor_offset[seg.set_id],
+                        betas.data() + member_offset[seg.set_id],
+                        member_az.data() + member_offset[seg.set_id],
+                        member_el.data() + member_offset[seg.set_id], sets.setSize(seg.set_id),
+                        length_scales[seg.set_id], gp, az + seg.col_begin, el + seg.col_begin,
+                        seg.col_end - seg.col_begin, shift, out.mean.data() + pixel,
+                        out.variance.data() + pixel);
+    }
+  }, 4);
+}
+
+void predictKernel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                   const NeighbourSets& sets, const DepthCompletionParams& params, double shift,
+                   ThreadPool& pool, PixelPredictions& out) {
+  resizePredictions(angles, out, std::numeric_limits<float>::quiet_NaN(), kNoPrediction);
+  const std::vector<double> targets = shiftedTargets(samples, shift);
+  // float32 weights exactly as the reference forms them: exp((-0.5 * d2) / ls^2).
+  const float ls2 = static_cast<float>(params.kernel_length_scale_deg *
+                                       params.kernel_length_scale_deg);
+  const float shift32 = static_cast<float>(shift);
+  const int cols = angles.grid().cols();
+  constexpr int kBlock = 64;
+
+  pool.parallelFor(angles.grid().rows(), [&](long long row_index, int) {
+    const int row = static_cast<int>(row_index);
+    const float* az = angles.azimuthRow(row);
+    const float* el = angles.elevationRow(row);
+    Eigen::Array<float, Eigen::Dynamic, 1> w(kBlock);
+    for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
+      const NeighbourSegment& seg = sets.segments()[k];
+      const int n = sets.setSize(seg.set_id);
+      const int* members = sets.members(seg.set_id);
+      for (int c0 = seg.col_begin; c0 < seg.col_end; c0 += kBlock) {
+        const int m = std::min(kBlock, seg.col_end - c0);
+        double sum_w[kBlock] = {0.0}, sum_wy[kBlock] = {0.0}, sum_wyy[kBlock] = {0.0};
+        for (int i = 0; i < n; ++i) {
+          const AngularSample& s = samples[members[i]];
+          for (int p = 0; p < m; ++p) {
+            const float da = az[c0 + p] - s.azimuth_deg;
+            const float de = el[c0 + p] - s.elevation_deg;
+            const float d2 = da * da + de * de;
+            w[p] = (-0.5f * d2) / ls2;
+          }
+          w.head(m) = w.head(m).exp();
+          const double y = targets[members[i]];
+          for (int p = 0; p < m; ++p) {
+            sum_w[p] += w[p];
+            sum_wy[p] += w[p] * y;
+            sum_wyy[p] += w[p] * y * y;
+          }
+        }
+        const std::size_t pixel = std::size_t(row) * cols + c0;
+        for (int p = 0; p < m; ++p) {
+          if (!(sum_w[p] > 0.0)) continue;
+          const double mean = sum_wy[p] / sum_w[p];
+          const double var = sum_wyy[p] / sum_w[p] - mean * mean;
+          out.mean[pixel + p] = static_cast<float>(mean) + shift32;
+          out.variance[pixel + p] = static_cast<float>(var < 0.0 ? 0.0 : var);
+        }
+      }
+    }
+  }, 4);
+}
+
+}  // namespace multimodal_nvs

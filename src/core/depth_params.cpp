@@ -1,0 +1,72 @@
+#include "multimodal_nvs/core/depth_params.hpp"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "multimodal_nvs/core/errors.hpp"
+
+namespace multimodal_nvs {
+
+const char* toString(DepthModel model) {
+  switch (model) {
+    case DepthModel::kLocalGpMle:
+      return "local_gp_mle";
+    case DepthModel::kKernel:
+      return "kernel";
+  }
+  return "unknown";
+}
+
+DepthModel parseDepthModel(const std::string& name) {
+  if (name == "local_gp_mle") return DepthModel::kLocalGpMle;
+  if (name == "kernel") return DepthModel::kKernel;
+  throw InputError("unknown depth model '" + name + "' (expected local_gp_mle or kernel)");
+}
+
+DepthShift DepthShift::parse(const std::string& spec) {
+  DepthShift s;
+  if (spec == "auto" || spec == "median") return s;
+  if (spec == "mean") {
+    s.mode = Mode::kMean;
+    return s;
+  }
+  if (spec == "none" || spec == "off" || spec == "0") {
+    s.mode = Mode::kNone;
+    return s;
+  }
+  char* end = nullptr;
+  const double v = std::strtod(spec.c_str(), &end);
+  if (spec.empty() || end != spec.c_str() + spec.size() || !std::isfinite(v)) {
+    throw InputError("shift '" + spec + "' is not auto, median, mean, none or a finite number");
+  }
+  s.mode = Mode::kValue;
+  s.value = v;
+  return s;
+}
+
+std::string DepthShift::toString() const {
+  switch (mode) {
+    case Mode::kMedian:
+      return "median";
+    case Mode::kMean:
+      return "mean";
+    case Mode::kNone:
+      return "none";
+    case Mode::kValue:
+      return std::to_string(value);
+  }
+  return "median";
+}
+
+void DepthCompletionParams::validate() const {
+  auto fail = [](const std::string& what) { throw InputError("parameter " + what); };
+  if (!(radius_deg > 0.0) || !std::isfinite(radius_deg)) fail("radius_deg must be > 0");
+  if (model == DepthModel::kLocalGpMle) gp.validate();
+  if (!(kernel_length_scale_deg > 0.0)) fail("kernel_length_scale_deg must be > 0");
+  if (!(retain_percent >= 0.0 && retain_percent <= 100.0)) fail("retain_percent must be in [0, 100]");
+  if (std::isnan(var_threshold)) fail("var_threshold must not be NaN");
+  if (max_neighbors < 0) fail("max_neighbors must be >= 0");
+  if (approx_tile < 1) fail("approx_tile must be >= 1");
+}
+
+}  // namespace multimodal_nvs
