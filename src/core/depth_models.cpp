@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "multimodal_nvs/core/local_gp.hpp"
+#include "multimodal_nvs/core/reference_arithmetic.hpp"
 
 namespace multimodal_nvs {
 namespace {
@@ -55,6 +56,10 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
   };
   std::vector<Workspace> workspaces(pool.size(), Workspace(gp));
 
+  // Two-sample sets are searched with the reference's exact arithmetic (see
+  // reference_arithmetic.hpp), which needs the reference's order of the two samples.
+  const std::vector<std::int64_t> rank = referenceSampleRanks(samples, params.radius_deg);
+
   pool.parallelFor(set_count, [&](long long set_index, int worker) {
     const int s = static_cast<int>(set_index);
     Workspace& ws = workspaces[worker];
@@ -69,7 +74,18 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
       ws.y[i] = targets[members[i]];
     }
     ws.gp.setData(az, el, ws.y.data(), n);
-    const double length_scale = ws.gp.searchLengthScale();
+    double length_scale;
+    if (n == 2) {
+      const int first = rank[members[0]] <= rank[members[1]] ? 0 : 1, second = 1 - first;
+      length_scale = goldenSectionMinimize(
+          [&](double l) {
+            return referenceNllTwoSamples(az[first], el[first], ws.y[first], az[second],
+                                          el[second], ws.y[second], gp.amplitude, gp.noise, l);
+          },
+          gp.length_scale_min, gp.length_scale_max, gp.tolerance, gp.max_iterations);
+    } else {
+      length_scale = ws.gp.searchLengthScale();
+    }
     if (!ws.gp.posterior(length_scale, ws.factor, ws.beta)) return;  // prior stays
     std::copy(ws.factor.begin(), ws.factor.end(), factors.begin() + factor_offset[s]);
     std::copy(ws.beta.begin(), ws.beta.end(), betas.begin() + member_offset[s]);
@@ -113,23 +129,30 @@ void predictKernel(const std::vector<AngularSample>& samples, const PixelAngleGr
     const int row = static_cast<int>(row_index);
     const float* az = angles.azimuthRow(row);
     const float* el = angles.elevationRow(row);
-    Eigen::Array<float, Eigen::Dynamic, 1> w(kBlock);
+    std::vector<float> weights;
     for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
       const NeighbourSegment& seg = sets.segments()[k];
       const int n = sets.setSize(seg.set_id);
       const int* members = sets.members(seg.set_id);
       for (int c0 = seg.col_begin; c0 < seg.col_end; c0 += kBlock) {
         const int m = std::min(kBlock, seg.col_end - c0);
-        double sum_w[kBlock] = {0.0}, sum_wy[kBlock] = {0.0}, sum_wyy[kBlock] = {0.0};
+        // Exponents of the whole n x m block first, then one vectorised exp over all of them.
+        weights.resize(std::size_t(n) * m);
         for (int i = 0; i < n; ++i) {
           const AngularSample& s = samples[members[i]];
+          float* w = weights.data() + std::size_t(i) * m;
           for (int p = 0; p < m; ++p) {
             const float da = az[c0 + p] - s.azimuth_deg;
             const float de = el[c0 + p] - s.elevation_deg;
             const float d2 = da * da + de * de;
             w[p] = (-0.5f * d2) / ls2;
           }
-          w.head(m) = w.head(m).exp();
+        }
+        Eigen::Map<Eigen::ArrayXf> block(weights.data(), weights.size());
+        block = block.exp();
+        double sum_w[kBlock] = {0.0}, sum_wy[kBlock] = {0.0}, sum_wyy[kBlock] = {0.0};
+        for (int i = 0; i < n; ++i) {
+          const float* w = weights.data() + std::size_t(i) * m;
           const double y = targets[members[i]];
           for (int p = 0; p < m; ++p) {
             sum_w[p] += w[p];

@@ -10,6 +10,9 @@ namespace multimodal_nvs {
 namespace {
 constexpr double kLog2Pi = 1.8378770664093454835606594728112;
 constexpr int kMaxStackPixels = 64;
+// Up to this size the packed scalar Cholesky beats Eigen's dynamic-size LLT (no copies, no
+// blocking overhead); beyond it Eigen's vectorised blocked factorisation wins.
+constexpr int kPackedCholeskyMaxSize = 32;
 }  // namespace
 
 void LocalGpParams::validate() const {
@@ -38,35 +41,82 @@ void LocalGp::setData(const float* azimuth, const float* elevation, const double
       sq_dist_[k++] = da * da + de * de;
     }
   }
-  k_.resize(n, n);
   scratch_.resize(n);
 }
 
 bool LocalGp::factorize(double length_scale) {
   const double a2 = params_.amplitude * params_.amplitude;
   const double noise2 = params_.noise * params_.noise;
-  const double l2 = length_scale * length_scale;
+  const double scale = -0.5 / (length_scale * length_scale);
+  // All exponentials of the packed triangle at once: Eigen vectorises exp, std::exp does not.
+  const std::size_t packed = sq_dist_.size();
+  packed_.resize(packed);
+  Eigen::Map<Eigen::ArrayXd>(packed_.data(), packed) =
+      (Eigen::Map<const Eigen::ArrayXd>(sq_dist_.data(), packed) * scale).exp() * a2;
   std::size_t k = 0;
   for (int i = 0; i < n_; ++i) {
-    for (int j = 0; j <= i; ++j) k_(i, j) = a2 * std::exp(-0.5 * sq_dist_[k++] / l2);
-    k_(i, i) += noise2;
+    k += i;
+    packed_[k++] += noise2;
   }
-  // In-place Cholesky of the lower triangle; fails on a non-positive pivot like LAPACK's potrf.
-  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(k_);
-  if (llt.info() != Eigen::Success) return false;
+  if (n_ <= kPackedCholeskyMaxSize) return choleskyPacked(packed_.data(), n_);
+  // Large sets (dense LiDAR): Eigen's blocked, vectorised LLT on a dense copy.
+  dense_.resize(n_, n_);
+  k = 0;
   for (int i = 0; i < n_; ++i) {
-    if (!(k_(i, i) > 0.0) || !std::isfinite(k_(i, i))) return false;
+    for (int j = 0; j <= i; ++j) dense_(i, j) = packed_[k++];
+  }
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(dense_);
+  if (llt.info() != Eigen::Success) return false;
+  k = 0;
+  for (int i = 0; i < n_; ++i) {
+    for (int j = 0; j <= i; ++j) packed_[k++] = dense_(i, j);
+    if (!(dense_(i, i) > 0.0) || !std::isfinite(dense_(i, i))) return false;
   }
   return true;
 }
 
+bool choleskyPacked(double* a, int n) {
+  // Row-oriented Cholesky on the packed lower triangle (row i holds i+1 values). Fails on a
+  // non-positive or NaN pivot, as LAPACK's potrf does.
+  double* row_i = a;
+  for (int i = 0; i < n; ++i) {
+    const double* row_j = a;
+    for (int j = 0; j < i; ++j) {
+      double sum = row_i[j];
+      for (int k = 0; k < j; ++k) sum -= row_i[k] * row_j[k];
+      row_i[j] = sum / row_j[j];
+      row_j += j + 1;
+    }
+    double diag = row_i[i];
+    for (int k = 0; k < i; ++k) diag -= row_i[k] * row_i[k];
+    if (!(diag > 0.0) || !std::isfinite(diag)) return false;
+    row_i[i] = std::sqrt(diag);
+    row_i += i + 1;
+  }
+  return true;
+}
+
+void forwardSubstitutePacked(const double* l, int n, double* x) {
+  const double* row = l;
+  for (int i = 0; i < n; ++i) {
+    double sum = x[i];
+    for (int k = 0; k < i; ++k) sum -= row[k] * x[k];
+    x[i] = sum / row[i];
+    row += i + 1;
+  }
+}
+
 double LocalGp::negLogMarginalLikelihood(double length_scale) {
   if (!factorize(length_scale)) return std::numeric_limits<double>::infinity();
-  scratch_ = Eigen::Map<const Eigen::VectorXd>(y_.data(), n_);
-  k_.triangularView<Eigen::Lower>().solveInPlace(scratch_);
-  const double quad = scratch_.squaredNorm();
-  double log_det = 0.0;
-  for (int i = 0; i < n_; ++i) log_det += std::log(k_(i, i));
+  scratch_ = y_;
+  forwardSubstitutePacked(packed_.data(), n_, scratch_.data());
+  double quad = 0.0, log_det = 0.0;
+  std::size_t diag = 0;
+  for (int i = 0; i < n_; ++i) {
+    quad += scratch_[i] * scratch_[i];
+    diag += i;
+    log_det += std::log(packed_[diag++]);
+  }
   return 0.5 * quad + log_det + 0.5 * n_ * kLog2Pi;
 }
 
@@ -79,14 +129,9 @@ double LocalGp::searchLengthScale() {
 bool LocalGp::posterior(double length_scale, std::vector<double>& packed_factor,
                         std::vector<double>& beta) {
   if (!factorize(length_scale)) return false;
-  scratch_ = Eigen::Map<const Eigen::VectorXd>(y_.data(), n_);
-  k_.triangularView<Eigen::Lower>().solveInPlace(scratch_);
-  packed_factor.resize(std::size_t(n_) * (n_ + 1) / 2);
-  std::size_t k = 0;
-  for (int i = 0; i < n_; ++i) {
-    for (int j = 0; j <= i; ++j) packed_factor[k++] = k_(i, j);
-  }
-  beta.assign(scratch_.data(), scratch_.data() + n_);
+  beta = y_;
+  forwardSubstitutePacked(packed_.data(), n_, beta.data());
+  packed_factor = packed_;
   return true;
 }
 
@@ -115,9 +160,11 @@ void predictFromFactor(const double* packed_factor, const double* beta, const fl
       for (int p = 0; p < m; ++p) {
         const double da = az - paz[p];
         const double de = el - pel[p];
-        wi[p] = a2 * std::exp((da * da + de * de) * scale);
+        wi[p] = (da * da + de * de) * scale;
       }
     }
+    Eigen::Map<Eigen::ArrayXd> block(w.data(), std::size_t(n) * m);
+    block = block.exp() * a2;
     double mean[kMaxStackPixels] = {0.0};
     double norm2[kMaxStackPixels] = {0.0};
     const double* row = packed_factor;

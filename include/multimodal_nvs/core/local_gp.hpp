@@ -51,9 +51,16 @@ class LocalGp {
   int n_ = 0;
   std::vector<double> az_, el_, y_;
   std::vector<double> sq_dist_;  // packed lower triangle, row-major
-  Eigen::MatrixXd k_;
-  Eigen::VectorXd scratch_;
+  std::vector<double> packed_;   // K, then its Cholesky factor, packed like sq_dist_
+  std::vector<double> scratch_;
+  Eigen::MatrixXd dense_;        // only for large sets
 };
+
+/// In-place Cholesky of a packed lower triangle (row i holds i+1 values); false on a non-positive
+/// or NaN pivot, like LAPACK's potrf.
+bool choleskyPacked(double* packed, int n);
+/// Solves L x = b in place for a packed lower-triangular L.
+void forwardSubstitutePacked(const double* packed, int n, double* x);
 
 /// Posterior mean and variance at one pixel from a factorised set (the per-pixel step):
 /// k* = a^2 exp(-d^2 / 2l^2), w = L^-1 k*, mean = shift + w.beta, var = a^2 + sigma^2 - |w|^2 (>= 0).

@@ -1,0 +1,136 @@
+// Depth-completion benchmarks on real VoD frames (MMNVS_DATA_DIR, default ../shared/data).
+// Targets (issue 2): 08350 radar full resolution exact local_gp_mle <= 25 ms median, kernel
+// <= 15 ms; 00549 LiDAR full resolution with the tile approximation <= 100 ms.
+#include <benchmark/benchmark.h>
+
+#include <cstdlib>
+#include <iostream>
+
+#include "multimodal_nvs/core/depth_completion.hpp"
+#include "multimodal_nvs/core/depth_models.hpp"
+#include "multimodal_nvs/core/io/kitti_calib.hpp"
+#include "multimodal_nvs/core/io/point_files.hpp"
+#include "multimodal_nvs/core/io/vod_layout.hpp"
+#include "multimodal_nvs/core/neighbour_sets.hpp"
+
+namespace mm = multimodal_nvs;
+
+namespace {
+
+struct Scan {
+  std::vector<Eigen::Vector3d> points;
+  mm::PinholeIntrinsics intrinsics;
+};
+
+std::string dataDir() {
+  const char* env = std::getenv("MMNVS_DATA_DIR");
+  return env != nullptr && *env ? env : MMNVS_DATA_DIR_DEFAULT;
+}
+
+const Scan* loadScan(int frame, const std::string& sensor) {
+  static std::map<std::string, Scan> cache;
+  const std::string key = std::to_string(frame) + sensor;
+  if (cache.count(key)) return &cache[key];
+  const mm::io::VodFrame f{dataDir() + "/vod", frame};
+  if (!mm::io::fileExists(f.points(sensor))) return nullptr;
+  const auto calib = mm::io::readKittiCalib(f.calib(sensor));
+  Scan scan;
+  scan.intrinsics = calib.intrinsics();
+  scan.points = mm::transformToCamera(
+      mm::io::readPoints(f.points(sensor), mm::io::parsePointFormat(sensor)),
+      calib.sensorToCamera());
+  return &(cache[key] = scan);
+}
+
+const mm::StrideGrid kFullResolution{{1216, 1936}, 1};
+
+void runCompletion(benchmark::State& state, int frame, const std::string& sensor,
+                   mm::DepthCompletionParams params) {
+  const Scan* scan = loadScan(frame, sensor);
+  if (scan == nullptr) {
+    state.SkipWithError("VoD data not found (set MMNVS_DATA_DIR)");
+    return;
+  }
+  mm::DepthCompleter completer(params.threads);
+  completer.complete(scan->points, scan->intrinsics, kFullResolution, params);  // camera setup
+  for (auto _ : state) {
+    auto map = completer.complete(scan->points, scan->intrinsics, kFullResolution, params);
+    benchmark::DoNotOptimize(map.depth.data());
+    state.counters["sets"] = map.stats.neighbour_sets;
+  }
+}
+
+void BM_Radar08350_LocalGpExact(benchmark::State& state) {
+  runCompletion(state, 8350, "radar", {});
+}
+void BM_Radar08350_Kernel(benchmark::State& state) {
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kKernel;
+  runCompletion(state, 8350, "radar", p);
+}
+void BM_Radar08350_LocalGpExact_Retain80(benchmark::State& state) {
+  mm::DepthCompletionParams p;
+  p.retain_percent = 80.0;
+  runCompletion(state, 8350, "radar", p);
+}
+void BM_Lidar00549_TiledApprox(benchmark::State& state) {
+  mm::DepthCompletionParams p;
+  p.max_neighbors = static_cast<int>(state.range(0));
+  p.approx_tile = static_cast<int>(state.range(1));
+  runCompletion(state, 549, "lidar", p);
+}
+
+// Phases, to see where the time goes.
+void BM_Radar08350_PixelAngleGrid(benchmark::State& state) {
+  const Scan* scan = loadScan(8350, "radar");
+  if (scan == nullptr) return state.SkipWithError("VoD data not found");
+  for (auto _ : state) {
+    mm::PixelAngleGrid grid(scan->intrinsics, kFullResolution);
+    benchmark::DoNotOptimize(grid.azimuthRow(0));
+  }
+}
+void BM_Radar08350_NeighbourSets(benchmark::State& state) {
+  const Scan* scan = loadScan(8350, "radar");
+  if (scan == nullptr) return state.SkipWithError("VoD data not found");
+  const mm::PixelAngleGrid grid(scan->intrinsics, kFullResolution);
+  const auto samples = mm::toAngularSamples(scan->points);
+  mm::ThreadPool pool(0);
+  for (auto _ : state) {
+    auto sets = mm::NeighbourSets::build(samples, grid, 2.0f, pool);
+    state.counters["segments"] = static_cast<double>(sets.segments().size());
+    state.counters["sets"] = sets.setCount();
+    double members = 0, pixel_members = 0;
+    for (int s = 0; s < sets.setCount(); ++s) members += sets.setSize(s);
+    for (const auto& seg : sets.segments()) {
+      pixel_members += double(seg.col_end - seg.col_begin) * sets.setSize(seg.set_id);
+    }
+    state.counters["mean_set_size"] = members / sets.setCount();
+    state.counters["pixels"] = static_cast<double>(sets.pixelsWithNeighbours());
+    state.counters["pixel_mean_set_size"] = pixel_members / sets.pixelsWithNeighbours();
+  }
+}
+void BM_Radar08350_GpPrediction(benchmark::State& state) {
+  const Scan* scan = loadScan(8350, "radar");
+  if (scan == nullptr) return state.SkipWithError("VoD data not found");
+  const mm::PixelAngleGrid grid(scan->intrinsics, kFullResolution);
+  const auto samples = mm::toAngularSamples(scan->points);
+  mm::ThreadPool pool(0);
+  const auto sets = mm::NeighbourSets::build(samples, grid, 2.0f, pool);
+  mm::DepthCompletionParams params;
+  const double shift = mm::computeShift(params.shift, samples);
+  mm::PixelPredictions out;
+  for (auto _ : state) mm::predictLocalGp(samples, grid, sets, params, shift, pool, out);
+}
+
+}  // namespace
+
+BENCHMARK(BM_Radar08350_LocalGpExact)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Radar08350_LocalGpExact_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Radar08350_Kernel)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Lidar00549_TiledApprox)->Args({16, 16})->Args({32, 16})->Args({16, 8})
+    ->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Radar08350_PixelAngleGrid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Radar08350_NeighbourSets)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Radar08350_GpPrediction)->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
