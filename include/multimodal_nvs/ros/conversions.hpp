@@ -1,0 +1,114 @@
+#pragma once
+// ROS messages <-> core types. Everything that comes in is validated here, before the core sees
+// it, and a failure comes back as a typed InputFault with a specific reason: callbacks drop the
+// message and count the fault instead of catching exceptions. No algorithm lives here.
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+#include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <string>
+#include <vector>
+
+#include "multimodal_nvs/core/angular_projection.hpp"
+#include "multimodal_nvs/core/camera.hpp"
+#include "multimodal_nvs/core/depth_completion.hpp"
+
+namespace multimodal_nvs {
+namespace ros_conversions {
+
+/// Why an input message was rejected. Diagnostics count rejections per fault.
+enum class InputFault {
+  kNone = 0,
+  // PointCloud2
+  kCloudMissingField,    ///< no x, y or z field
+  kCloudFieldDatatype,   ///< x/y/z not FLOAT32 or FLOAT64
+  kCloudFieldCount,      ///< x/y/z field with count != 1
+  kCloudFieldOffset,     ///< field offset + size > point_step
+  kCloudLayout,          ///< point_step 0, width * point_step > row_step, or size overflow
+  kCloudDataTooShort,    ///< data.size() < row_step * height
+  kCloudBigEndian,       ///< byte order differs from the host's
+  kCloudEmpty,           ///< width * height == 0
+  kCloudNoFinitePoint,   ///< every point has a NaN or Inf coordinate
+  // Image / CompressedImage
+  kImageEncoding,        ///< not rgb8, bgr8, rgba8, bgra8 or mono8
+  kImageStep,            ///< step < width * channels, or data shorter than step * height
+  kImageEmpty,           ///< width or height is 0
+  kImageDecode,          ///< compressed payload is not a decodable jpeg/png
+  // CameraInfo
+  kCameraInfoIntrinsics, ///< K not a valid pinhole matrix (e.g. all zero)
+  kCameraInfoSize,       ///< CameraInfo width/height differ from the image's
+  // Pairing
+  kTransformUnavailable, ///< no tf from the cloud frame to the image frame at the cloud stamp
+};
+constexpr int kInputFaultCount = static_cast<int>(InputFault::kTransformUnavailable) + 1;
+
+/// Short snake_case name of the fault, used as the diagnostics key.
+const char* toString(InputFault fault);
+
+/// Outcome of a conversion: ok, or a fault and a sentence naming the field and values involved.
+struct ConversionStatus {
+  InputFault fault = InputFault::kNone;
+  std::string reason;
+
+  bool ok() const { return fault == InputFault::kNone; }
+  static ConversionStatus success() { return {}; }
+  static ConversionStatus failure(InputFault fault, std::string reason) {
+    return {fault, std::move(reason)};
+  }
+};
+
+// ---- Inputs --------------------------------------------------------------------------------------
+
+/// Reads x, y, z (FLOAT32 or FLOAT64, any offsets, any extra fields, organised or not) and applies
+/// `sensor_to_camera` in double precision. Non-finite points are skipped and counted in
+/// `non_finite` (organised LiDAR clouds mark missing returns with NaN); a cloud whose points are all
+/// non-finite is rejected. `points` is cleared first.
+ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                 const Eigen::Isometry3d& sensor_to_camera,
+                                 std::vector<Eigen::Vector3d>& points, std::size_t* non_finite);
+/// Same without a transform, in float (for tools and tests).
+ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                 std::vector<Eigen::Vector3f>& points);
+
+/// Checks everything `pointsFromCloud` checks about the layout without reading a point.
+ConversionStatus validateCloudLayout(const sensor_msgs::PointCloud2& cloud);
+
+/// Checks encoding, size and step of an image without touching its pixels.
+ConversionStatus validateImage(const sensor_msgs::Image& image);
+
+/// Image -> RGB (CV_8UC3) view. rgb8 is wrapped without a copy (the Mat points into `image.data`,
+/// which must outlive it); other encodings are converted into a new buffer. Honours `step`.
+ConversionStatus rgbFromImage(const sensor_msgs::Image& image, cv::Mat& rgb);
+
+/// Decodes a jpeg or png CompressedImage into RGB (CV_8UC3).
+ConversionStatus rgbFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& rgb);
+
+/// CameraInfo -> intrinsics from K; the CameraInfo's size must equal `image_size`.
+ConversionStatus intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info,
+                                          const ImageSize& image_size,
+                                          PinholeIntrinsics& intrinsics);
+
+// ---- Outputs -------------------------------------------------------------------------------------
+
+/// Depth 32FC1 in metres on the stride grid, NaN where the pixel is not kept (REP 118).
+sensor_msgs::ImagePtr depthImage(const DepthMap& depth, const std_msgs::Header& header);
+/// Variance 32FC1 in m^2 for every grid pixel (+inf where the model made no prediction).
+sensor_msgs::ImagePtr varianceImage(const DepthMap& depth, const std_msgs::Header& header);
+/// Kept mask mono8: 255 kept, 0 not.
+sensor_msgs::ImagePtr maskImage(const DepthMap& depth, const std_msgs::Header& header);
+
+/// CameraInfo describing the stride grid: the grid pixel (r, c) is the full-image pixel
+/// (c * s, r * s), so K and P divide by s (no half-pixel shift, as the grid has none).
+sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full, const StrideGrid& grid);
+
+/// XYZRGB cloud (float32 x, y, z, packed rgb) in the camera frame of the kept pixels, every
+/// `cloud_stride`-th grid pixel in each direction: P = z K^-1 [u, v, 1] at the full-image pixel,
+/// colour = `rgb` (full-image CV_8UC3) at that pixel. Unorganised, dense.
+sensor_msgs::PointCloud2Ptr coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics,
+                                         const cv::Mat& rgb, int cloud_stride,
+                                         const std_msgs::Header& header);
+
+}  // namespace ros_conversions
+}  // namespace multimodal_nvs

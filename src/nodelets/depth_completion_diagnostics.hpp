@@ -1,0 +1,45 @@
+#pragma once
+// Counters of the depth completion nodelet, reported through diagnostic_updater: input and output
+// rates over the last report period, latency, and every dropped or rejected message by reason.
+#include <array>
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "multimodal_nvs/ros/conversions.hpp"
+
+namespace multimodal_nvs {
+
+class DepthCompletionDiagnostics {
+ public:
+  enum class Input { kPoints, kImage, kCameraInfo, kSet };
+
+  void start(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const std::string& node_name);
+
+  // Thread-safe: called from subscriber and frame callbacks.
+  void countInput(Input input);
+  void countFault(ros_conversions::InputFault fault);
+  void countPublished(double latency_ms, double compute_ms);
+  void setSubscribed(bool subscribed);
+
+ private:
+  void report(diagnostic_updater::DiagnosticStatusWrapper& status);
+
+  /// Event counts since the last report (rates) and since start (totals).
+  struct Counts {
+    std::array<unsigned long, 4> inputs{};
+    unsigned long published = 0;
+    std::array<unsigned long, ros_conversions::kInputFaultCount> faults{};
+    double latency_sum_ms = 0.0, latency_max_ms = 0.0, compute_sum_ms = 0.0;
+  };
+
+  std::mutex mutex_;
+  Counts window_, total_;
+  ros::WallTime window_start_;
+  bool subscribed_ = false;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer timer_;
+};
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,335 @@
+// multimodal_nvs/DepthCompletion: synchronized PointCloud2 + Image + CameraInfo in; REP-118 depth,
+// variance, mask, coloured cloud and stats out. Wiring only: conversions live in
+// multimodal_nvs/ros/conversions.hpp and the algorithm in the core's DepthCompleter.
+#include <boost/make_shared.hpp>
+#include <dynamic_reconfigure/server.h>
+#include <image_transport/camera_publisher.h>
+#include <image_transport/image_transport.h>
+#include <image_transport/subscriber_filter.h>
+#include <message_filters/subscriber.h>
+#include <nodelet/nodelet.h>
+#include <pluginlib/class_list_macros.hpp>
+#include <sensor_msgs/CompressedImage.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <functional>
+#include <memory>
+#include <mutex>
+
+#include "depth_completion_diagnostics.hpp"
+// The generated depth/stats message shares its name with the core's multimodal_nvs::
+// DepthCompletionStats, so it is built in depth_completion_stats.cpp, out of this file's sight.
+#include "depth_completion_stats.hpp"
+#include "multimodal_nvs/core/depth_completion.hpp"
+#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/ros/conversions.hpp"
+#include "multimodal_nvs/ros/depth_completion_config.hpp"
+#include "multimodal_nvs/ros/frame_synchronizer.hpp"
+
+namespace multimodal_nvs {
+
+namespace rc = ros_conversions;
+
+class DepthCompletionNodelet : public nodelet::Nodelet {
+ private:
+  using Config = DepthCompletionConfig;
+  using RawSync = FrameSynchronizer<sensor_msgs::Image>;
+  using CompressedSync = FrameSynchronizer<sensor_msgs::CompressedImage>;
+  /// Produces the full-size RGB image on demand: only depth/points needs colour.
+  using ColourSource = std::function<rc::ConversionStatus(cv::Mat&)>;
+
+  void onInit() override;
+  void advertiseOutputs();
+  void connectCb();
+  bool outputsHaveSubscribers() const;
+  void subscribeInputs();
+  void onRawFrame(const RawSync::PointsEvent& points, const RawSync::ImageEvent& image,
+                  const RawSync::InfoEvent& info);
+  void onCompressedFrame(const CompressedSync::PointsEvent& points,
+                         const CompressedSync::ImageEvent& image,
+                         const CompressedSync::InfoEvent& info);
+  void processFrame(const sensor_msgs::PointCloud2& cloud, const std_msgs::Header& image_header,
+                    const ImageSize& image_size, const ColourSource& colour,
+                    const sensor_msgs::CameraInfo& info, const ros::Time& receipt);
+  void publishOutputs(const DepthMap& depth, const DepthCompletionSettings& settings,
+                      const std_msgs::Header& header, const sensor_msgs::CameraInfo& info,
+                      const PinholeIntrinsics& intrinsics, const ColourSource& colour,
+                      const ros::Time& receipt);
+  bool lookupSensorToCamera(const std_msgs::Header& cloud_header, const std::string& camera_frame,
+                            Eigen::Isometry3d& sensor_to_camera);
+  bool accept(const rc::ConversionStatus& status, const char* topic);
+  void reconfigure(Config& config, uint32_t level);
+  DepthCompletionSettings currentSettings();
+  DepthCompleter& completer(int threads);
+
+  // Static parameters (read once in onInit).
+  SyncSettings sync_settings_;
+  bool compressed_input_ = false;
+  ros::Duration tf_timeout_;
+
+  // Inputs, subscribed only while an output has a subscriber.
+  std::unique_ptr<image_transport::ImageTransport> it_;
+  message_filters::Subscriber<sensor_msgs::PointCloud2> points_sub_;
+  image_transport::SubscriberFilter image_sub_;
+  message_filters::Subscriber<sensor_msgs::CompressedImage> compressed_sub_;
+  message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
+  std::unique_ptr<RawSync> raw_sync_;
+  std::unique_ptr<CompressedSync> compressed_sync_;
+
+  // Outputs. connect_mutex_ also guards their assignment: connect callbacks may fire meanwhile.
+  std::mutex connect_mutex_;
+  bool subscribed_ = false;
+  image_transport::CameraPublisher depth_pub_;
+  image_transport::Publisher variance_pub_, mask_pub_;
+  ros::Publisher points_pub_, stats_pub_;
+
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+
+  // Written by the reconfigure callback, copied once per frame by the frame callback.
+  std::mutex settings_mutex_;
+  DepthCompletionSettings settings_;
+  std::unique_ptr<dynamic_reconfigure::Server<Config>> reconfigure_server_;
+  boost::recursive_mutex reconfigure_mutex_;
+
+  // Frame-callback state (one frame at a time: the nodelet's callback queue is single-threaded).
+  std::unique_ptr<DepthCompleter> completer_;
+  int completer_threads_ = -1;
+  std::vector<Eigen::Vector3d> points_camera_;
+  DepthCompletionDiagnostics diagnostics_;
+};
+
+void DepthCompletionNodelet::onInit() {
+  ros::NodeHandle& nh = getNodeHandle();
+  ros::NodeHandle& pnh = getPrivateNodeHandle();
+  sync_settings_.queue_size = pnh.param("queue_size", 5);
+  sync_settings_.approximate = pnh.param("approximate_sync", true);
+  sync_settings_.max_interval = pnh.param("max_interval", 0.0);
+  compressed_input_ = pnh.param("compressed_input", false);
+  tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
+
+  tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
+  tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
+  diagnostics_.start(nh, pnh, getName());
+
+  // The .cfg defaults first, then whatever the parameter server (YAML) holds, through one mapping.
+  settings_ = settingsFromConfig(Config::__getDefault__());
+  reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, pnh);
+  reconfigure_server_->setCallback(
+      boost::bind(&DepthCompletionNodelet::reconfigure, this, boost::placeholders::_1,
+                  boost::placeholders::_2));
+
+  it_ = std::make_unique<image_transport::ImageTransport>(nh);
+  if (compressed_input_) {
+    compressed_sync_ = std::make_unique<CompressedSync>(
+        sync_settings_, points_sub_, compressed_sub_, info_sub_,
+        boost::bind(&DepthCompletionNodelet::onCompressedFrame, this, boost::placeholders::_1,
+                    boost::placeholders::_2, boost::placeholders::_3));
+  } else {
+    raw_sync_ = std::make_unique<RawSync>(
+        sync_settings_, points_sub_, image_sub_, info_sub_,
+        boost::bind(&DepthCompletionNodelet::onRawFrame, this, boost::placeholders::_1,
+                    boost::placeholders::_2, boost::placeholders::_3));
+  }
+  using Input = DepthCompletionDiagnostics::Input;
+  points_sub_.registerCallback([this](const sensor_msgs::PointCloud2ConstPtr&) {
+    diagnostics_.countInput(Input::kPoints);
+  });
+  image_sub_.registerCallback(
+      [this](const sensor_msgs::ImageConstPtr&) { diagnostics_.countInput(Input::kImage); });
+  compressed_sub_.registerCallback([this](const sensor_msgs::CompressedImageConstPtr&) {
+    diagnostics_.countInput(Input::kImage);
+  });
+  info_sub_.registerCallback([this](const sensor_msgs::CameraInfoConstPtr&) {
+    diagnostics_.countInput(Input::kCameraInfo);
+  });
+  advertiseOutputs();
+}
+
+void DepthCompletionNodelet::advertiseOutputs() {
+  ros::NodeHandle& nh = getNodeHandle();
+  image_transport::SubscriberStatusCallback image_cb = boost::bind(&DepthCompletionNodelet::connectCb, this);
+  ros::SubscriberStatusCallback topic_cb = boost::bind(&DepthCompletionNodelet::connectCb, this);
+  std::lock_guard<std::mutex> lock(connect_mutex_);
+  depth_pub_ = it_->advertiseCamera("depth/image", 1, image_cb, image_cb, topic_cb, topic_cb);
+  variance_pub_ = it_->advertise("depth/variance", 1, image_cb, image_cb);
+  mask_pub_ = it_->advertise("depth/mask", 1, image_cb, image_cb);
+  points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("depth/points", 1, topic_cb, topic_cb);
+  stats_pub_ = advertiseStats(nh, "depth/stats", topic_cb);
+}
+
+bool DepthCompletionNodelet::outputsHaveSubscribers() const {
+  return depth_pub_.getNumSubscribers() > 0 || variance_pub_.getNumSubscribers() > 0 ||
+         mask_pub_.getNumSubscribers() > 0 || points_pub_.getNumSubscribers() > 0 ||
+         stats_pub_.getNumSubscribers() > 0;
+}
+
+// Lazy subscription (depth_image_proc's idiom): inputs follow the presence of output subscribers.
+void DepthCompletionNodelet::connectCb() {
+  std::lock_guard<std::mutex> lock(connect_mutex_);
+  const bool wanted = outputsHaveSubscribers();
+  if (wanted && !subscribed_) {
+    subscribeInputs();
+  } else if (!wanted && subscribed_) {
+    points_sub_.unsubscribe();
+    image_sub_.unsubscribe();
+    compressed_sub_.unsubscribe();
+    info_sub_.unsubscribe();
+  }
+  subscribed_ = wanted;
+  diagnostics_.setSubscribed(wanted);
+}
+
+void DepthCompletionNodelet::subscribeInputs() {
+  ros::NodeHandle& nh = getNodeHandle();
+  const uint32_t queue = sync_settings_.queue_size;
+  points_sub_.subscribe(nh, "points", queue);
+  info_sub_.subscribe(nh, "camera_info", queue);
+  if (compressed_input_) {
+    compressed_sub_.subscribe(nh, "image/compressed", queue);
+  } else {
+    image_transport::TransportHints hints("raw", ros::TransportHints(), getPrivateNodeHandle());
+    image_sub_.subscribe(*it_, "image", queue, hints);
+  }
+}
+
+void DepthCompletionNodelet::onRawFrame(const RawSync::PointsEvent& points,
+                                        const RawSync::ImageEvent& image,
+                                        const RawSync::InfoEvent& info) {
+  diagnostics_.countInput(DepthCompletionDiagnostics::Input::kSet);
+  const ros::Time receipt = std::max({points.getReceiptTime(), image.getReceiptTime(),
+                                      info.getReceiptTime()});
+  const sensor_msgs::Image& msg = *image.getConstMessage();
+  if (!accept(rc::validateImage(msg), "image")) return;
+  // rgb8 is wrapped without a copy; `msg` outlives the frame.
+  const ColourSource colour = [&msg](cv::Mat& rgb) { return rc::rgbFromImage(msg, rgb); };
+  processFrame(*points.getConstMessage(), msg.header, ImageSize{int(msg.height), int(msg.width)},
+               colour, *info.getConstMessage(), receipt);
+}
+
+void DepthCompletionNodelet::onCompressedFrame(const CompressedSync::PointsEvent& points,
+                                               const CompressedSync::ImageEvent& image,
+                                               const CompressedSync::InfoEvent& info) {
+  diagnostics_.countInput(DepthCompletionDiagnostics::Input::kSet);
+  const ros::Time receipt = std::max({points.getReceiptTime(), image.getReceiptTime(),
+                                      info.getReceiptTime()});
+  // Decoding is the only way to learn the image size, so it happens for every synced set.
+  cv::Mat rgb;
+  if (!accept(rc::rgbFromCompressed(*image.getConstMessage(), rgb), "image/compressed")) return;
+  const ColourSource colour = [&rgb](cv::Mat& out) {
+    out = rgb;
+    return rc::ConversionStatus::success();
+  };
+  processFrame(*points.getConstMessage(), image.getConstMessage()->header,
+               ImageSize{rgb.rows, rgb.cols}, colour, *info.getConstMessage(), receipt);
+}
+
+void DepthCompletionNodelet::processFrame(const sensor_msgs::PointCloud2& cloud,
+                                          const std_msgs::Header& image_header,
+                                          const ImageSize& image_size, const ColourSource& colour,
+                                          const sensor_msgs::CameraInfo& info,
+                                          const ros::Time& receipt) {
+  const DepthCompletionSettings settings = currentSettings();
+  PinholeIntrinsics intrinsics;
+  if (!accept(rc::intrinsicsFromCameraInfo(info, image_size, intrinsics), "camera_info")) return;
+  // Layout first, so that a malformed cloud is reported as such and not as a missing transform.
+  if (!accept(rc::validateCloudLayout(cloud), "points")) return;
+  Eigen::Isometry3d sensor_to_camera;
+  if (!lookupSensorToCamera(cloud.header, image_header.frame_id, sensor_to_camera)) return;
+  std::size_t non_finite = 0;
+  if (!accept(rc::pointsFromCloud(cloud, sensor_to_camera, points_camera_, &non_finite), "points")) {
+    return;
+  }
+  DepthMap depth;
+  try {
+    depth = completer(settings.params.threads)
+                .complete(points_camera_, intrinsics, StrideGrid{image_size, settings.stride},
+                          settings.params);
+  } catch (const InputError& e) {  // parameters and intrinsics were validated: not expected
+    NODELET_ERROR_THROTTLE(5.0, "depth completion failed: %s", e.what());
+    return;
+  }
+  publishOutputs(depth, settings, image_header, info, intrinsics, colour, receipt);
+}
+
+void DepthCompletionNodelet::publishOutputs(const DepthMap& depth,
+                                            const DepthCompletionSettings& settings,
+                                            const std_msgs::Header& header,
+                                            const sensor_msgs::CameraInfo& info,
+                                            const PinholeIntrinsics& intrinsics,
+                                            const ColourSource& colour, const ros::Time& receipt) {
+  if (depth_pub_.getNumSubscribers() > 0) {
+    sensor_msgs::CameraInfoPtr grid_info = rc::gridCameraInfo(info, depth.grid);
+    grid_info->header = header;
+    depth_pub_.publish(rc::depthImage(depth, header), grid_info);
+  }
+  if (variance_pub_.getNumSubscribers() > 0) variance_pub_.publish(rc::varianceImage(depth, header));
+  if (mask_pub_.getNumSubscribers() > 0) mask_pub_.publish(rc::maskImage(depth, header));
+  cv::Mat rgb;
+  if (points_pub_.getNumSubscribers() > 0 && accept(colour(rgb), "image")) {
+    points_pub_.publish(rc::coloredCloud(depth, intrinsics, rgb, settings.cloud_stride, header));
+  }
+  const double latency_ms = (ros::Time::now() - receipt).toSec() * 1e3;
+  diagnostics_.countPublished(latency_ms, depth.stats.compute_ms);
+  if (stats_pub_.getNumSubscribers() == 0) return;
+  publishStats(stats_pub_, header,
+               FrameStatsFields{unsigned(depth.stats.points_total),
+                                unsigned(depth.stats.points_in_view),
+                                unsigned(depth.stats.neighbour_sets), unsigned(depth.stats.kept),
+                                depth.stats.compute_ms, latency_ms});
+}
+
+bool DepthCompletionNodelet::lookupSensorToCamera(const std_msgs::Header& cloud_header,
+                                                  const std::string& camera_frame,
+                                                  Eigen::Isometry3d& sensor_to_camera) {
+  if (cloud_header.frame_id == camera_frame) {
+    sensor_to_camera.setIdentity();
+    return true;
+  }
+  try {
+    sensor_to_camera = tf2::transformToEigen(tf_buffer_->lookupTransform(
+        camera_frame, cloud_header.frame_id, cloud_header.stamp, tf_timeout_));
+    return true;
+  } catch (const tf2::TransformException& e) {
+    return accept(rc::ConversionStatus::failure(rc::InputFault::kTransformUnavailable, e.what()),
+                  "tf");
+  }
+}
+
+/// Counts and logs (throttled) a rejected input; true when `status` is ok.
+bool DepthCompletionNodelet::accept(const rc::ConversionStatus& status, const char* topic) {
+  if (status.ok()) return true;
+  diagnostics_.countFault(status.fault);
+  NODELET_ERROR_THROTTLE(2.0, "dropping input set: %s: %s [%s]", topic, status.reason.c_str(),
+                         rc::toString(status.fault));
+  return false;
+}
+
+void DepthCompletionNodelet::reconfigure(Config& config, uint32_t /*level*/) {
+  std::lock_guard<std::mutex> lock(settings_mutex_);
+  try {
+    settings_ = settingsFromConfig(config);
+  } catch (const InputError& e) {
+    NODELET_ERROR("rejected parameter update (%s); keeping the previous values", e.what());
+    writeSettingsToConfig(settings_, config);  // the server then publishes what is in effect
+  }
+}
+
+DepthCompletionSettings DepthCompletionNodelet::currentSettings() {
+  std::lock_guard<std::mutex> lock(settings_mutex_);
+  return settings_;
+}
+
+DepthCompleter& DepthCompletionNodelet::completer(int threads) {
+  if (!completer_ || threads != completer_threads_) {
+    completer_ = std::make_unique<DepthCompleter>(threads);
+    completer_threads_ = threads;
+  }
+  return *completer_;
+}
+
+}  // namespace multimodal_nvs
+
+PLUGINLIB_EXPORT_CLASS(multimodal_nvs::DepthCompletionNodelet, nodelet::Nodelet)

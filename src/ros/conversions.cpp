@@ -1,0 +1,429 @@
+#include "multimodal_nvs/ros/conversions.hpp"
+
+#include <boost/make_shared.hpp>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_field_conversion.h>
+#include <sstream>
+
+#include "multimodal_nvs/core/errors.hpp"
+
+namespace multimodal_nvs {
+namespace ros_conversions {
+
+namespace enc = sensor_msgs::image_encodings;
+
+const char* toString(InputFault fault) {
+  switch (fault) {
+    case InputFault::kNone: return "none";
+    case InputFault::kCloudMissingField: return "cloud_missing_field";
+    case InputFault::kCloudFieldDatatype: return "cloud_field_datatype";
+    case InputFault::kCloudFieldCount: return "cloud_field_count";
+    case InputFault::kCloudFieldOffset: return "cloud_field_offset";
+    case InputFault::kCloudLayout: return "cloud_layout";
+    case InputFault::kCloudDataTooShort: return "cloud_data_too_short";
+    case InputFault::kCloudBigEndian: return "cloud_big_endian";
+    case InputFault::kCloudEmpty: return "cloud_empty";
+    case InputFault::kCloudNoFinitePoint: return "cloud_no_finite_point";
+    case InputFault::kImageEncoding: return "image_encoding";
+    case InputFault::kImageStep: return "image_step";
+    case InputFault::kImageEmpty: return "image_empty";
+    case InputFault::kImageDecode: return "image_decode";
+    case InputFault::kCameraInfoIntrinsics: return "camera_info_intrinsics";
+    case InputFault::kCameraInfoSize: return "camera_info_size";
+    case InputFault::kTransformUnavailable: return "transform_unavailable";
+  }
+  return "unknown";
+}
+
+namespace {
+
+bool hostIsBigEndian() {
+  const std::uint16_t probe = 1;
+  std::uint8_t first_byte;
+  std::memcpy(&first_byte, &probe, 1);
+  return first_byte == 0;
+}
+
+template <typename... Parts>
+std::string concat(const Parts&... parts) {
+  std::ostringstream out;
+  (out << ... << parts);
+  return out.str();
+}
+
+/// Where x, y and z live inside one point record.
+struct XyzLayout {
+  std::uint32_t offset[3];
+  std::uint8_t datatype[3];
+};
+
+ConversionStatus findXyz(const sensor_msgs::PointCloud2& cloud, XyzLayout& layout) {
+  static const char* const kNames[3] = {"x", "y", "z"};
+  for (int axis = 0; axis < 3; ++axis) {
+    const sensor_msgs::PointField* field = nullptr;
+    for (const auto& f : cloud.fields) {
+      if (f.name == kNames[axis]) {
+        field = &f;
+        break;
+      }
+    }
+    if (!field) {
+      return ConversionStatus::failure(InputFault::kCloudMissingField,
+                                       concat("PointCloud2 has no '", kNames[axis], "' field"));
+    }
+    if (field->datatype != sensor_msgs::PointField::FLOAT32 &&
+        field->datatype != sensor_msgs::PointField::FLOAT64) {
+      return ConversionStatus::failure(
+          InputFault::kCloudFieldDatatype,
+          concat("PointCloud2 field '", kNames[axis], "' has datatype ", int(field->datatype),
+                 " (expected FLOAT32=7 or FLOAT64=8)"));
+    }
+    if (field->count != 1) {
+      return ConversionStatus::failure(
+          InputFault::kCloudFieldCount,
+          concat("PointCloud2 field '", kNames[axis], "' has count ", field->count, " (expected 1)"));
+    }
+    const std::uint64_t size = field->datatype == sensor_msgs::PointField::FLOAT32 ? 4 : 8;
+    if (std::uint64_t(field->offset) + size > cloud.point_step) {
+      return ConversionStatus::failure(
+          InputFault::kCloudFieldOffset,
+          concat("PointCloud2 field '", kNames[axis], "' at offset ", field->offset, " + ", size,
+                 " bytes exceeds point_step ", cloud.point_step));
+    }
+    layout.offset[axis] = field->offset;
+    layout.datatype[axis] = field->datatype;
+  }
+  return ConversionStatus::success();
+}
+
+inline double readCoordinate(const std::uint8_t* record, std::uint32_t offset,
+                             std::uint8_t datatype) {
+  if (datatype == sensor_msgs::PointField::FLOAT32) {
+    float value;
+    std::memcpy(&value, record + offset, sizeof value);
+    return value;
+  }
+  double value;
+  std::memcpy(&value, record + offset, sizeof value);
+  return value;
+}
+
+/// Calls visit(x, y, z) for every point of a validated cloud, row by row.
+template <typename Visit>
+void forEachPoint(const sensor_msgs::PointCloud2& cloud, const XyzLayout& layout, Visit&& visit) {
+  for (std::uint32_t row = 0; row < cloud.height; ++row) {
+    const std::uint8_t* record = cloud.data.data() + std::size_t(row) * cloud.row_step;
+    for (std::uint32_t col = 0; col < cloud.width; ++col, record += cloud.point_step) {
+      visit(readCoordinate(record, layout.offset[0], layout.datatype[0]),
+            readCoordinate(record, layout.offset[1], layout.datatype[1]),
+            readCoordinate(record, layout.offset[2], layout.datatype[2]));
+    }
+  }
+}
+
+ConversionStatus validateCloud(const sensor_msgs::PointCloud2& cloud, XyzLayout& layout) {
+  ConversionStatus status = findXyz(cloud, layout);
+  if (!status.ok()) return status;
+  if (bool(cloud.is_bigendian) != hostIsBigEndian()) {
+    return ConversionStatus::failure(
+        InputFault::kCloudBigEndian,
+        concat("PointCloud2 is ", cloud.is_bigendian ? "big" : "little",
+               "-endian and this host is not; byte swapping is not supported"));
+  }
+  // 32-bit factors: every product below is exact in 64 bits, so nothing can wrap around.
+  const std::uint64_t points = std::uint64_t(cloud.width) * cloud.height;
+  if (points == 0) {
+    return ConversionStatus::failure(
+        InputFault::kCloudEmpty, concat("PointCloud2 is empty (", cloud.width, "x", cloud.height, ")"));
+  }
+  if (std::uint64_t(cloud.width) * cloud.point_step > cloud.row_step) {
+    return ConversionStatus::failure(
+        InputFault::kCloudLayout, concat("PointCloud2 width ", cloud.width, " * point_step ",
+                                         cloud.point_step, " exceeds row_step ", cloud.row_step));
+  }
+  const std::uint64_t needed = std::uint64_t(cloud.row_step) * cloud.height;
+  if (needed > std::numeric_limits<std::size_t>::max() ||
+      points > std::numeric_limits<std::size_t>::max() / sizeof(Eigen::Vector3d)) {
+    return ConversionStatus::failure(InputFault::kCloudLayout,
+                                     concat("PointCloud2 size ", cloud.width, "x", cloud.height,
+                                            " does not fit in memory on this host"));
+  }
+  if (cloud.data.size() < needed) {
+    return ConversionStatus::failure(
+        InputFault::kCloudDataTooShort,
+        concat("PointCloud2 data has ", cloud.data.size(), " bytes, row_step ", cloud.row_step,
+               " * height ", cloud.height, " needs ", needed));
+  }
+  return ConversionStatus::success();
+}
+
+}  // namespace
+
+ConversionStatus validateCloudLayout(const sensor_msgs::PointCloud2& cloud) {
+  XyzLayout layout;
+  return validateCloud(cloud, layout);
+}
+
+ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                 const Eigen::Isometry3d& sensor_to_camera,
+                                 std::vector<Eigen::Vector3d>& points, std::size_t* non_finite) {
+  points.clear();
+  XyzLayout layout;
+  ConversionStatus status = validateCloud(cloud, layout);
+  if (!status.ok()) return status;
+  points.reserve(std::size_t(cloud.width) * cloud.height);
+  std::size_t skipped = 0;
+  forEachPoint(cloud, layout, [&](double x, double y, double z) {
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
+      ++skipped;
+      return;
+    }
+    points.push_back(sensor_to_camera * Eigen::Vector3d(x, y, z));
+  });
+  if (non_finite) *non_finite = skipped;
+  if (points.empty()) {
+    return ConversionStatus::failure(
+        InputFault::kCloudNoFinitePoint,
+        concat("PointCloud2 has ", skipped, " points and none has finite x, y, z"));
+  }
+  return ConversionStatus::success();
+}
+
+ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                 std::vector<Eigen::Vector3f>& points) {
+  std::vector<Eigen::Vector3d> points_double;
+  ConversionStatus status =
+      pointsFromCloud(cloud, Eigen::Isometry3d::Identity(), points_double, nullptr);
+  points.clear();
+  points.reserve(points_double.size());
+  for (const auto& p : points_double) points.push_back(p.cast<float>());
+  return status;
+}
+
+namespace {
+
+/// Channels of a supported 8-bit colour or mono encoding, 0 for anything else.
+int supportedChannels(const std::string& encoding) {
+  if (encoding == enc::RGB8 || encoding == enc::BGR8) return 3;
+  if (encoding == enc::RGBA8 || encoding == enc::BGRA8) return 4;
+  if (encoding == enc::MONO8) return 1;
+  return 0;
+}
+
+}  // namespace
+
+ConversionStatus validateImage(const sensor_msgs::Image& image) {
+  const int channels = supportedChannels(image.encoding);
+  if (channels == 0) {
+    return ConversionStatus::failure(
+        InputFault::kImageEncoding,
+        concat("Image encoding '", image.encoding,
+               "' is not supported (expected rgb8, bgr8, rgba8, bgra8 or mono8)"));
+  }
+  if (image.width == 0 || image.height == 0) {
+    return ConversionStatus::failure(
+        InputFault::kImageEmpty, concat("Image is empty (", image.width, "x", image.height, ")"));
+  }
+  // Rows are addressed with int by OpenCV.
+  if (image.width > std::uint32_t(std::numeric_limits<int>::max() / 4) ||
+      image.height > std::uint32_t(std::numeric_limits<int>::max())) {
+    return ConversionStatus::failure(InputFault::kImageStep,
+                                     concat("Image size ", image.width, "x", image.height,
+                                            " is too large"));
+  }
+  const std::uint64_t min_step = std::uint64_t(image.width) * channels;
+  if (image.step < min_step) {
+    return ConversionStatus::failure(
+        InputFault::kImageStep, concat("Image step ", image.step, " is smaller than width ",
+                                       image.width, " * ", channels, " channels"));
+  }
+  const std::uint64_t needed = std::uint64_t(image.step) * image.height;
+  if (image.data.size() < needed) {
+    return ConversionStatus::failure(
+        InputFault::kImageStep, concat("Image data has ", image.data.size(), " bytes, step ",
+                                       image.step, " * height ", image.height, " needs ", needed));
+  }
+  return ConversionStatus::success();
+}
+
+ConversionStatus rgbFromImage(const sensor_msgs::Image& image, cv::Mat& rgb) {
+  ConversionStatus status = validateImage(image);
+  if (!status.ok()) return status;
+  const int channels = supportedChannels(image.encoding);
+  // The Mat header only wraps the message buffer; it is never written through.
+  const cv::Mat wrapped(int(image.height), int(image.width), CV_8UC(channels),
+                        const_cast<std::uint8_t*>(image.data.data()), image.step);
+  if (image.encoding == enc::RGB8) {
+    rgb = wrapped;
+  } else if (image.encoding == enc::BGR8) {
+    cv::cvtColor(wrapped, rgb, cv::COLOR_BGR2RGB);
+  } else if (image.encoding == enc::RGBA8) {
+    cv::cvtColor(wrapped, rgb, cv::COLOR_RGBA2RGB);
+  } else if (image.encoding == enc::BGRA8) {
+    cv::cvtColor(wrapped, rgb, cv::COLOR_BGRA2RGB);
+  } else {
+    cv::cvtColor(wrapped, rgb, cv::COLOR_GRAY2RGB);
+  }
+  return ConversionStatus::success();
+}
+
+ConversionStatus rgbFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& rgb) {
+  cv::Mat bgr;
+  if (!image.data.empty()) {
+    try {
+      const cv::Mat payload(1, int(image.data.size()), CV_8UC1,
+                            const_cast<std::uint8_t*>(image.data.data()));
+      bgr = cv::imdecode(payload, cv::IMREAD_COLOR);
+    } catch (const cv::Exception& e) {
+      bgr.release();
+    }
+  }
+  if (bgr.empty()) {
+    return ConversionStatus::failure(
+        InputFault::kImageDecode, concat("CompressedImage (format '", image.format, "', ",
+                                         image.data.size(), " bytes) is not a decodable jpeg/png"));
+  }
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return ConversionStatus::success();
+}
+
+ConversionStatus intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info,
+                                          const ImageSize& image_size,
+                                          PinholeIntrinsics& intrinsics) {
+  if (int(info.width) != image_size.width || int(info.height) != image_size.height) {
+    return ConversionStatus::failure(
+        InputFault::kCameraInfoSize,
+        concat("CameraInfo size ", info.width, "x", info.height, " differs from the image's ",
+               image_size.width, "x", image_size.height));
+  }
+  const auto& k = info.K;
+  PinholeIntrinsics candidate{k[0], k[4], k[2], k[5]};
+  try {
+    candidate.validate("CameraInfo K");
+  } catch (const InputError& e) {
+    return ConversionStatus::failure(InputFault::kCameraInfoIntrinsics, e.what());
+  }
+  if (k[1] != 0.0 || k[3] != 0.0 || k[6] != 0.0 || k[7] != 0.0 || k[8] != 1.0) {
+    return ConversionStatus::failure(
+        InputFault::kCameraInfoIntrinsics,
+        concat("CameraInfo K is not [fx 0 cx; 0 fy cy; 0 0 1] (skew ", k[1], ", K[8] ", k[8], ")"));
+  }
+  if (info.binning_x > 1 || info.binning_y > 1 || info.roi.width != 0 || info.roi.height != 0) {
+    return ConversionStatus::failure(InputFault::kCameraInfoIntrinsics,
+                                     "CameraInfo with binning or ROI is not supported");
+  }
+  intrinsics = candidate;
+  return ConversionStatus::success();
+}
+
+namespace {
+
+sensor_msgs::ImagePtr gridImage(const StrideGrid& grid, const std::string& encoding,
+                                int bytes_per_pixel, const std_msgs::Header& header) {
+  auto image = boost::make_shared<sensor_msgs::Image>();
+  image->header = header;
+  image->height = grid.rows();
+  image->width = grid.cols();
+  image->encoding = encoding;
+  image->is_bigendian = hostIsBigEndian();
+  image->step = image->width * bytes_per_pixel;
+  image->data.resize(std::size_t(image->step) * image->height);
+  return image;
+}
+
+}  // namespace
+
+sensor_msgs::ImagePtr depthImage(const DepthMap& depth, const std_msgs::Header& header) {
+  auto image = gridImage(depth.grid, enc::TYPE_32FC1, sizeof(float), header);
+  const float not_kept = std::numeric_limits<float>::quiet_NaN();
+  std::uint8_t* out = image->data.data();
+  for (std::size_t i = 0; i < depth.depth.size(); ++i, out += sizeof(float)) {
+    const float value = depth.valid[i] ? depth.depth[i] : not_kept;
+    std::memcpy(out, &value, sizeof value);
+  }
+  return image;
+}
+
+sensor_msgs::ImagePtr varianceImage(const DepthMap& depth, const std_msgs::Header& header) {
+  auto image = gridImage(depth.grid, enc::TYPE_32FC1, sizeof(float), header);
+  std::memcpy(image->data.data(), depth.variance.data(), depth.variance.size() * sizeof(float));
+  return image;
+}
+
+sensor_msgs::ImagePtr maskImage(const DepthMap& depth, const std_msgs::Header& header) {
+  auto image = gridImage(depth.grid, enc::MONO8, 1, header);
+  for (std::size_t i = 0; i < depth.valid.size(); ++i) image->data[i] = depth.valid[i] ? 255 : 0;
+  return image;
+}
+
+sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full,
+                                          const StrideGrid& grid) {
+  auto info = boost::make_shared<sensor_msgs::CameraInfo>(full);
+  info->width = grid.cols();
+  info->height = grid.rows();
+  const double s = grid.stride;
+  for (int i : {0, 2, 4, 5}) info->K[i] /= s;
+  for (int i : {0, 2, 3, 5, 6, 7}) info->P[i] /= s;
+  return info;
+}
+
+sensor_msgs::PointCloud2Ptr coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics,
+                                         const cv::Mat& rgb, int cloud_stride,
+                                         const std_msgs::Header& header) {
+  auto cloud = boost::make_shared<sensor_msgs::PointCloud2>();
+  cloud->header = header;
+  cloud->fields.resize(4);
+  const char* const names[4] = {"x", "y", "z", "rgb"};
+  for (int i = 0; i < 4; ++i) {
+    cloud->fields[i].name = names[i];
+    cloud->fields[i].offset = 4 * i;
+    cloud->fields[i].datatype = sensor_msgs::PointField::FLOAT32;
+    cloud->fields[i].count = 1;
+  }
+  cloud->point_step = 16;
+  cloud->is_bigendian = hostIsBigEndian();
+  cloud->is_dense = true;
+  cloud->height = 1;
+
+  const StrideGrid& grid = depth.grid;
+  const int step = std::max(1, cloud_stride);
+  const bool has_colour = rgb.type() == CV_8UC3 && rgb.rows == grid.image.height &&
+                          rgb.cols == grid.image.width;
+  std::size_t count = 0;
+  for (int r = 0; r < grid.rows(); r += step) {
+    for (int c = 0; c < grid.cols(); c += step) count += depth.valid[std::size_t(r) * grid.cols() + c];
+  }
+  cloud->data.resize(count * cloud->point_step);
+  std::uint8_t* out = cloud->data.data();
+  for (int r = 0; r < grid.rows(); r += step) {
+    const int v = r * grid.stride;
+    for (int c = 0; c < grid.cols(); c += step) {
+      const std::size_t index = std::size_t(r) * grid.cols() + c;
+      if (!depth.valid[index]) continue;
+      const int u = c * grid.stride;
+      const double z = depth.depth[index];
+      const float xyz[3] = {float((u - intrinsics.cx) * z / intrinsics.fx),
+                            float((v - intrinsics.cy) * z / intrinsics.fy), float(z)};
+      std::uint32_t packed = 0;
+      if (has_colour) {
+        const cv::Vec3b& px = rgb.at<cv::Vec3b>(v, u);
+        packed = (std::uint32_t(px[0]) << 16) | (std::uint32_t(px[1]) << 8) | px[2];
+      }
+      std::memcpy(out, xyz, sizeof xyz);
+      std::memcpy(out + 12, &packed, sizeof packed);
+      out += cloud->point_step;
+    }
+  }
+  cloud->width = static_cast<std::uint32_t>(count);
+  cloud->row_step = cloud->width * cloud->point_step;
+  return cloud;
+}
+
+}  // namespace ros_conversions
+}  // namespace multimodal_nvs

@@ -1,0 +1,59 @@
+#include "multimodal_nvs/ros/depth_completion_config.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "multimodal_nvs/core/errors.hpp"
+
+namespace multimodal_nvs {
+
+DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) {
+  DepthCompletionSettings settings;
+  DepthCompletionParams& p = settings.params;
+  p.model = parseDepthModel(config.model);
+  p.radius_deg = config.radius_deg;
+  p.gp.amplitude = config.amplitude;
+  p.gp.noise = config.noise;
+  p.gp.length_scale_min = config.length_scale_min;
+  p.gp.length_scale_max = config.length_scale_max;
+  p.gp.tolerance = config.tolerance;
+  p.gp.max_iterations = config.max_iterations;
+  p.kernel_length_scale_deg = config.kernel_length_scale_deg;
+  p.shift = DepthShift::parse(config.shift);
+  p.retain_percent = config.retain_percent;
+  // dynamic_reconfigure cannot carry infinity, so 0 stands for "no threshold".
+  p.var_threshold = config.var_threshold > 0.0 ? config.var_threshold
+                                               : std::numeric_limits<double>::infinity();
+  p.max_neighbors = config.max_neighbors;
+  p.approx_tile = config.approx_tile;
+  p.threads = config.threads;
+  p.validate();
+  if (config.stride < 1) throw InputError("parameter stride must be >= 1");
+  if (config.cloud_stride < 1) throw InputError("parameter cloud_stride must be >= 1");
+  settings.stride = config.stride;
+  settings.cloud_stride = config.cloud_stride;
+  return settings;
+}
+
+void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthCompletionConfig& config) {
+  const DepthCompletionParams& p = settings.params;
+  config.model = toString(p.model);
+  config.radius_deg = p.radius_deg;
+  config.amplitude = p.gp.amplitude;
+  config.noise = p.gp.noise;
+  config.length_scale_min = p.gp.length_scale_min;
+  config.length_scale_max = p.gp.length_scale_max;
+  config.tolerance = p.gp.tolerance;
+  config.max_iterations = p.gp.max_iterations;
+  config.kernel_length_scale_deg = p.kernel_length_scale_deg;
+  config.shift = p.shift.toString();
+  config.retain_percent = p.retain_percent;
+  config.var_threshold = std::isfinite(p.var_threshold) ? p.var_threshold : 0.0;
+  config.max_neighbors = p.max_neighbors;
+  config.approx_tile = p.approx_tile;
+  config.threads = p.threads;
+  config.stride = settings.stride;
+  config.cloud_stride = settings.cloud_stride;
+}
+
+}  // namespace multimodal_nvs
