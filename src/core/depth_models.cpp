@@ -75,7 +75,12 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
     }
     ws.gp.setData(az, el, ws.y.data(), n);
     double length_scale;
-    if (n == 2) {
+    if (n == 1) {
+      // K = a^2 + sigma^2 whatever the length scale: every comparison of the search is a tie, so
+      // its path is fixed and needs no likelihood evaluation.
+      length_scale = goldenSectionMinimize([](double) { return 0.0; }, gp.length_scale_min,
+                                           gp.length_scale_max, gp.tolerance, gp.max_iterations);
+    } else if (n == 2) {
       const int first = rank[members[0]] <= rank[members[1]] ? 0 : 1, second = 1 - first;
       length_scale = goldenSectionMinimize(
           [&](double l) {

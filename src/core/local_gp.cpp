@@ -9,10 +9,12 @@
 namespace multimodal_nvs {
 namespace {
 constexpr double kLog2Pi = 1.8378770664093454835606594728112;
-constexpr int kMaxStackPixels = 64;
 // Up to this size the packed scalar Cholesky beats Eigen's dynamic-size LLT (no copies, no
 // blocking overhead); beyond it Eigen's vectorised blocked factorisation wins.
 constexpr int kPackedCholeskyMaxSize = 32;
+constexpr int kMaxPackedSize = kPackedCholeskyMaxSize;
+// Length of a buffer rounded up to whole 8-double SIMD packets.
+std::size_t paddedToPackets(std::size_t n) { return (n + 7) & ~std::size_t(7); }
 }  // namespace
 
 void LocalGpParams::validate() const {
@@ -32,7 +34,7 @@ void LocalGp::setData(const float* azimuth, const float* elevation, const double
   az_.assign(azimuth, azimuth + n);
   el_.assign(elevation, elevation + n);
   y_.assign(targets, targets + n);
-  sq_dist_.resize(std::size_t(n) * (n + 1) / 2);
+  sq_dist_.assign(paddedToPackets(std::size_t(n) * (n + 1) / 2), 0.0);
   std::size_t k = 0;
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j <= i; ++j) {
@@ -49,10 +51,11 @@ bool LocalGp::factorize(double length_scale) {
   const double noise2 = params_.noise * params_.noise;
   const double scale = -0.5 / (length_scale * length_scale);
   // All exponentials of the packed triangle at once: Eigen vectorises exp, std::exp does not.
-  const std::size_t packed = sq_dist_.size();
-  packed_.resize(packed);
-  Eigen::Map<Eigen::ArrayXd>(packed_.data(), packed) =
-      (Eigen::Map<const Eigen::ArrayXd>(sq_dist_.data(), packed) * scale).exp() * a2;
+  // sq_dist_ is padded to whole SIMD packets so that Eigen never falls back to scalar exp.
+  const std::size_t padded = sq_dist_.size();
+  packed_.resize(padded);
+  Eigen::Map<Eigen::ArrayXd>(packed_.data(), padded) =
+      (Eigen::Map<const Eigen::ArrayXd>(sq_dist_.data(), padded) * scale).exp() * a2;
   std::size_t k = 0;
   for (int i = 0; i < n_; ++i) {
     k += i;
@@ -76,21 +79,25 @@ bool LocalGp::factorize(double length_scale) {
 }
 
 bool choleskyPacked(double* a, int n) {
+  if (n > kMaxPackedSize) return false;
   // Row-oriented Cholesky on the packed lower triangle (row i holds i+1 values). Fails on a
   // non-positive or NaN pivot, as LAPACK's potrf does.
+  // Reciprocals of the pivots turn the O(n^2) divisions into multiplications (kMaxPackedSize).
+  double inverse_diag[kMaxPackedSize];
   double* row_i = a;
   for (int i = 0; i < n; ++i) {
     const double* row_j = a;
     for (int j = 0; j < i; ++j) {
       double sum = row_i[j];
       for (int k = 0; k < j; ++k) sum -= row_i[k] * row_j[k];
-      row_i[j] = sum / row_j[j];
+      row_i[j] = sum * inverse_diag[j];
       row_j += j + 1;
     }
     double diag = row_i[i];
     for (int k = 0; k < i; ++k) diag -= row_i[k] * row_i[k];
     if (!(diag > 0.0) || !std::isfinite(diag)) return false;
     row_i[i] = std::sqrt(diag);
+    inverse_diag[i] = 1.0 / row_i[i];
     row_i += i + 1;
   }
   return true;
@@ -110,13 +117,19 @@ double LocalGp::negLogMarginalLikelihood(double length_scale) {
   if (!factorize(length_scale)) return std::numeric_limits<double>::infinity();
   scratch_ = y_;
   forwardSubstitutePacked(packed_.data(), n_, scratch_.data());
-  double quad = 0.0, log_det = 0.0;
+  double quad = 0.0, log_det = 0.0, diag_product = 1.0;
   std::size_t diag = 0;
   for (int i = 0; i < n_; ++i) {
     quad += scratch_[i] * scratch_[i];
     diag += i;
-    log_det += std::log(packed_[diag++]);
+    // One log per 16 factors instead of one per factor; 16 pivots cannot overflow a double.
+    diag_product *= packed_[diag++];
+    if ((i & 15) == 15) {
+      log_det += std::log(diag_product);
+      diag_product = 1.0;
+    }
   }
+  log_det += std::log(diag_product);
   return 0.5 * quad + log_det + 0.5 * n_ * kLog2Pi;
 }
 
@@ -131,65 +144,8 @@ bool LocalGp::posterior(double length_scale, std::vector<double>& packed_factor,
   if (!factorize(length_scale)) return false;
   beta = y_;
   forwardSubstitutePacked(packed_.data(), n_, beta.data());
-  packed_factor = packed_;
+  packed_factor.assign(packed_.begin(), packed_.begin() + std::size_t(n_) * (n_ + 1) / 2);
   return true;
-}
-
-void predictFromFactor(const double* packed_factor, const double* beta, const float* azimuth,
-                       const float* elevation, int n, double length_scale,
-                       const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
-                       int pixels, double shift, float* mean_out, float* var_out) {
-  const double a2 = params.amplitude * params.amplitude;
-  const double prior = a2 + params.noise * params.noise;
-  const double scale = -0.5 / (length_scale * length_scale);
-  // Pixels are processed in blocks with the block index innermost, so the exponentials and the
-  // forward substitution vectorise across pixels. w is row-major n x block.
-  thread_local std::vector<double> w;
-  w.resize(std::size_t(n) * kMaxStackPixels);
-  for (int p0 = 0; p0 < pixels; p0 += kMaxStackPixels) {
-    const int m = std::min(kMaxStackPixels, pixels - p0);
-    double paz[kMaxStackPixels], pel[kMaxStackPixels];
-    for (int p = 0; p < m; ++p) {
-      paz[p] = pixel_az[p0 + p];
-      pel[p] = pixel_el[p0 + p];
-    }
-    for (int i = 0; i < n; ++i) {
-      double* wi = w.data() + std::size_t(i) * m;
-      const double az = azimuth[i];
-      const double el = elevation[i];
-      for (int p = 0; p < m; ++p) {
-        const double da = az - paz[p];
-        const double de = el - pel[p];
-        wi[p] = (da * da + de * de) * scale;
-      }
-    }
-    Eigen::Map<Eigen::ArrayXd> block(w.data(), std::size_t(n) * m);
-    block = block.exp() * a2;
-    double mean[kMaxStackPixels] = {0.0};
-    double norm2[kMaxStackPixels] = {0.0};
-    const double* row = packed_factor;
-    for (int i = 0; i < n; ++i) {
-      double* wi = w.data() + std::size_t(i) * m;
-      for (int j = 0; j < i; ++j) {
-        const double lij = row[j];
-        const double* wj = w.data() + std::size_t(j) * m;
-        for (int p = 0; p < m; ++p) wi[p] -= lij * wj[p];
-      }
-      const double inv_diag = 1.0 / row[i];
-      const double bi = beta[i];
-      for (int p = 0; p < m; ++p) {
-        wi[p] *= inv_diag;
-        mean[p] += wi[p] * bi;
-        norm2[p] += wi[p] * wi[p];
-      }
-      row += i + 1;
-    }
-    for (int p = 0; p < m; ++p) {
-      mean_out[p0 + p] = static_cast<float>(mean[p] + shift);
-      const double var = prior - norm2[p];
-      var_out[p0 + p] = static_cast<float>(var < 0.0 ? 0.0 : var);
-    }
-  }
 }
 
 }  // namespace multimodal_nvs
