@@ -67,14 +67,22 @@ std::size_t countInView(const std::vector<Eigen::Vector3d>& points, const Pinhol
 DepthMap DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
                                   const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
                                   const DepthCompletionParams& params) {
+  DepthMap out;
+  complete(points_camera, intrinsics, grid, params, out);
+  return out;
+}
+
+void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
+                              const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
+                              const DepthCompletionParams& params, DepthMap& out) {
   params.validate();
   intrinsics.validate("camera intrinsics");
   if (grid.image.height <= 0 || grid.image.width <= 0 || grid.stride < 1) {
     throw InputError("image size must be positive and stride >= 1");
   }
   const auto start = std::chrono::steady_clock::now();
-  DepthMap out;
   out.grid = grid;
+  out.stats = {};
   DepthCompletionStats& stats = out.stats;
   stats.points_total = points_camera.size();
   stats.points_in_view = countInView(points_camera, intrinsics, grid.image);
@@ -83,7 +91,10 @@ DepthMap DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_cam
   stats.shift = computeShift(params.shift, samples);
 
   const PixelAngleGrid& angles = pixelAngles(intrinsics, grid);
+  // The models write into the output's own buffers (capacity reused across calls).
   PixelPredictions prediction;
+  prediction.mean.swap(out.depth);
+  prediction.variance.swap(out.variance);
   if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
     stats.neighbour_sets = predictTiledLocalGp(samples, angles, params, stats.shift, *pool_,
                                                prediction);
@@ -100,30 +111,33 @@ DepthMap DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_cam
 
   // Valid as the reference defines it, then retention among the valid pixels.
   const std::size_t n = static_cast<std::size_t>(grid.size());
-  std::vector<std::uint8_t> candidate(n);
+  const bool retention = params.retain_percent < 100.0;
+  std::vector<std::uint8_t>& candidate = retention ? candidate_ : out.valid;
+  candidate.resize(n);
   const float threshold = static_cast<float>(params.var_threshold);
+  long long predicted = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const float v = prediction.variance[i];
-    stats.predicted += std::isfinite(v);
+    predicted += std::isfinite(v);
     candidate[i] = std::isfinite(v) && v <= threshold && std::isfinite(prediction.mean[i]);
   }
-  out.valid.resize(n);
-  if (params.retain_percent >= 100.0) {
-    out.valid = candidate;
-  } else {
+  stats.predicted = predicted;
+  if (retention) {
+    out.valid.resize(n);
     keepLowestVariance(prediction.variance.data(), candidate.data(), n,
                        retentionCount(params.retain_percent, grid.size()), out.valid.data());
   }
-  out.depth = std::move(prediction.mean);
+  out.depth.swap(prediction.mean);
+  out.variance.swap(prediction.variance);
+  long long kept = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!out.valid[i]) out.depth[i] = -1.0f;
-    stats.kept += out.valid[i];
+    kept += out.valid[i];
   }
-  out.variance = std::move(prediction.variance);
+  stats.kept = kept;
   stats.pixels = grid.size();
   stats.compute_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  return out;
 }
 
 }  // namespace multimodal_nvs

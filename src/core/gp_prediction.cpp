@@ -12,17 +12,24 @@ namespace {
 constexpr int kMaxStackPixels = 64;
 }  // namespace
 
-void predictFromFactor(const double* packed_factor, const double* beta, const float* azimuth,
-                       const float* elevation, int n, double length_scale,
-                       const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
-                       int pixels, double shift, float* mean_out, float* var_out) {
+namespace {
+
+// kSize > 0 fixes the set size at compile time (radar sets are tiny: the loops unroll); 0 is the
+// general case. Same arithmetic either way.
+template <int kSize>
+void predictBlocks(const double* packed_factor, const double* beta, const float* azimuth,
+                   const float* elevation, int n, double length_scale,
+                   const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
+                   int pixels, double shift, float* mean_out, float* var_out) {
+  if (kSize > 0) n = kSize;
   const double a2 = params.amplitude * params.amplitude;
   const double prior = a2 + params.noise * params.noise;
   const double scale = -0.5 / (length_scale * length_scale);
   // Pixels are processed in blocks with the block index innermost, so the exponentials and the
   // forward substitution vectorise across pixels. w is row-major n x block.
+  // 8 spare doubles so that the exponentials run over whole SIMD packets (no scalar tail).
   thread_local std::vector<double> w;
-  w.resize(std::size_t(n) * kMaxStackPixels);
+  w.resize(std::size_t(n) * kMaxStackPixels + 8, 0.0);
   for (int p0 = 0; p0 < pixels; p0 += kMaxStackPixels) {
     const int m = std::min(kMaxStackPixels, pixels - p0);
     double paz[kMaxStackPixels], pel[kMaxStackPixels];
@@ -40,7 +47,7 @@ void predictFromFactor(const double* packed_factor, const double* beta, const fl
         wi[p] = (da * da + de * de) * scale;
       }
     }
-    Eigen::Map<Eigen::ArrayXd> block(w.data(), std::size_t(n) * m);
+    Eigen::Map<Eigen::ArrayXd> block(w.data(), (std::size_t(n) * m + 7) & ~std::size_t(7));
     block = block.exp() * a2;
     double mean[kMaxStackPixels] = {0.0};
     double norm2[kMaxStackPixels] = {0.0};
@@ -67,6 +74,27 @@ void predictFromFactor(const double* packed_factor, const double* beta, const fl
       var_out[p0 + p] = static_cast<float>(var < 0.0 ? 0.0 : var);
     }
   }
+}
+
+}  // namespace
+
+void predictFromFactor(const double* packed_factor, const double* beta, const float* azimuth,
+                       const float* elevation, int n, double length_scale,
+                       const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
+                       int pixels, double shift, float* mean_out, float* var_out) {
+#define MMNVS_PREDICT(size)                                                                   \
+  predictBlocks<size>(packed_factor, beta, azimuth, elevation, n, length_scale, params, pixel_az, \
+                      pixel_el, pixels, shift, mean_out, var_out)
+  switch (n) {
+    case 1: return MMNVS_PREDICT(1);
+    case 2: return MMNVS_PREDICT(2);
+    case 3: return MMNVS_PREDICT(3);
+    case 4: return MMNVS_PREDICT(4);
+    case 5: return MMNVS_PREDICT(5);
+    case 6: return MMNVS_PREDICT(6);
+    default: return MMNVS_PREDICT(0);
+  }
+#undef MMNVS_PREDICT
 }
 
 }  // namespace multimodal_nvs

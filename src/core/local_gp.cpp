@@ -12,6 +12,8 @@ constexpr double kLog2Pi = 1.8378770664093454835606594728112;
 // Up to this size the packed scalar Cholesky beats Eigen's dynamic-size LLT (no copies, no
 // blocking overhead); beyond it Eigen's vectorised blocked factorisation wins.
 constexpr int kPackedCholeskyMaxSize = 32;
+// Sizes up to this use the fully unrolled packed factorisation.
+constexpr int kUnrolledCholeskyMaxSize = 8;
 constexpr int kMaxPackedSize = kPackedCholeskyMaxSize;
 // Length of a buffer rounded up to whole 8-double SIMD packets.
 std::size_t paddedToPackets(std::size_t n) { return (n + 7) & ~std::size_t(7); }
@@ -61,7 +63,21 @@ bool LocalGp::factorize(double length_scale) {
     k += i;
     packed_[k++] += noise2;
   }
-  if (n_ <= kPackedCholeskyMaxSize) return choleskyPacked(packed_.data(), n_);
+  if (n_ <= kUnrolledCholeskyMaxSize) return choleskyPacked(packed_.data(), n_);
+  if (n_ <= kPackedCholeskyMaxSize) {
+    // Medium sets: column-major copy, so that the updates are contiguous AXPYs that vectorise.
+    dense_.resize(n_, n_);
+    k = 0;
+    for (int i = 0; i < n_; ++i) {
+      for (int j = 0; j <= i; ++j) dense_(i, j) = packed_[k++];
+    }
+    if (!choleskyColumns(dense_.data(), n_)) return false;
+    k = 0;
+    for (int i = 0; i < n_; ++i) {
+      for (int j = 0; j <= i; ++j) packed_[k++] = dense_(i, j);
+    }
+    return true;
+  }
   // Large sets (dense LiDAR): Eigen's blocked, vectorised LLT on a dense copy.
   dense_.resize(n_, n_);
   k = 0;
@@ -78,11 +94,15 @@ bool LocalGp::factorize(double length_scale) {
   return true;
 }
 
-bool choleskyPacked(double* a, int n) {
-  if (n > kMaxPackedSize) return false;
-  // Row-oriented Cholesky on the packed lower triangle (row i holds i+1 values). Fails on a
-  // non-positive or NaN pivot, as LAPACK's potrf does.
-  // Reciprocals of the pivots turn the O(n^2) divisions into multiplications (kMaxPackedSize).
+namespace {
+
+// Row-oriented Cholesky on the packed lower triangle (row i holds i+1 values). Fails on a
+// non-positive or NaN pivot, as LAPACK's potrf does. Reciprocals of the pivots turn the O(n^2)
+// divisions into multiplications. kSize > 0 fixes the size at compile time so that the tiny
+// matrices of radar neighbour sets are fully unrolled; the arithmetic is the same either way.
+template <int kSize>
+bool choleskyRows(double* a, int n) {
+  if (kSize > 0) n = kSize;
   double inverse_diag[kMaxPackedSize];
   double* row_i = a;
   for (int i = 0; i < n; ++i) {
@@ -101,6 +121,40 @@ bool choleskyPacked(double* a, int n) {
     row_i += i + 1;
   }
   return true;
+}
+
+}  // namespace
+
+bool choleskyColumns(double* c, int n) {
+  for (int j = 0; j < n; ++j) {
+    double* __restrict column_j = c + std::size_t(j) * n;
+    for (int k = 0; k < j; ++k) {
+      const double l_jk = c[std::size_t(k) * n + j];
+      const double* __restrict column_k = c + std::size_t(k) * n;
+      for (int i = j; i < n; ++i) column_j[i] -= l_jk * column_k[i];
+    }
+    const double diag = column_j[j];
+    if (!(diag > 0.0) || !std::isfinite(diag)) return false;
+    const double pivot = std::sqrt(diag);
+    const double inverse = 1.0 / pivot;
+    column_j[j] = pivot;
+    for (int i = j + 1; i < n; ++i) column_j[i] *= inverse;
+  }
+  return true;
+}
+
+bool choleskyPacked(double* a, int n) {
+  switch (n) {
+    case 1: return choleskyRows<1>(a, n);
+    case 2: return choleskyRows<2>(a, n);
+    case 3: return choleskyRows<3>(a, n);
+    case 4: return choleskyRows<4>(a, n);
+    case 5: return choleskyRows<5>(a, n);
+    case 6: return choleskyRows<6>(a, n);
+    case 7: return choleskyRows<7>(a, n);
+    case 8: return choleskyRows<8>(a, n);
+    default: return n <= kMaxPackedSize && choleskyRows<0>(a, n);
+  }
 }
 
 void forwardSubstitutePacked(const double* l, int n, double* x) {

@@ -59,6 +59,9 @@ class LocalGp {
 /// In-place Cholesky of a packed lower triangle (row i holds i+1 values); false on a non-positive
 /// or NaN pivot, like LAPACK's potrf.
 bool choleskyPacked(double* packed, int n);
+/// In-place left-looking Cholesky of a column-major n x n matrix (lower triangle read and
+/// written); its updates are contiguous AXPYs. False on a non-positive or NaN pivot.
+bool choleskyColumns(double* column_major, int n);
 /// Solves L x = b in place for a packed lower-triangular L.
 void forwardSubstitutePacked(const double* packed, int n, double* x);
 
