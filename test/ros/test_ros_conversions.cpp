@@ -1,0 +1,441 @@
+// Unit tests of the ROS <-> core conversions and of the Config <-> params mapping; no master.
+#include <gtest/gtest.h>
+#include <sensor_msgs/image_encodings.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <opencv2/imgcodecs.hpp>
+
+#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/ros/conversions.hpp"
+#include "multimodal_nvs/ros/depth_completion_config.hpp"
+
+namespace mm = multimodal_nvs;
+namespace rc = multimodal_nvs::ros_conversions;
+namespace enc = sensor_msgs::image_encodings;
+using rc::InputFault;
+
+namespace {
+
+sensor_msgs::PointField field(const std::string& name, std::uint32_t offset, std::uint8_t type) {
+  sensor_msgs::PointField f;
+  f.name = name;
+  f.offset = offset;
+  f.datatype = type;
+  f.count = 1;
+  return f;
+}
+
+/// Cloud with x, y, z of type `type` after a 4-byte "intensity" field, `pad` extra bytes per point.
+template <typename T>
+sensor_msgs::PointCloud2 makeCloud(const std::vector<Eigen::Vector3d>& points, std::uint8_t type,
+                                   std::uint32_t height = 1, std::uint32_t row_padding = 0) {
+  sensor_msgs::PointCloud2 cloud;
+  cloud.fields = {field("intensity", 0, sensor_msgs::PointField::FLOAT32),
+                  field("z", 4 + 2 * sizeof(T), type), field("x", 4, type),
+                  field("y", 4 + sizeof(T), type)};
+  cloud.point_step = 4 + 3 * sizeof(T) + 3;
+  cloud.height = height;
+  cloud.width = points.size() / height;
+  cloud.row_step = cloud.width * cloud.point_step + row_padding;
+  cloud.data.assign(std::size_t(cloud.row_step) * height, 0xAB);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const std::size_t row = i / cloud.width, col = i % cloud.width;
+    std::uint8_t* record = &cloud.data[row * cloud.row_step + col * cloud.point_step];
+    for (int axis = 0; axis < 3; ++axis) {
+      const T value = static_cast<T>(points[i][axis]);
+      std::memcpy(record + 4 + axis * sizeof(T), &value, sizeof(T));
+    }
+  }
+  return cloud;
+}
+
+std::vector<Eigen::Vector3d> samplePoints() {
+  return {{1, 2, 3}, {-4.5, 0.25, 10}, {0, 0, 1}, {7, -8, 9}, {0.5, 0.5, 0.5}, {3, 2, 1}};
+}
+
+InputFault cloudFault(const sensor_msgs::PointCloud2& cloud) {
+  std::vector<Eigen::Vector3d> points;
+  return rc::pointsFromCloud(cloud, Eigen::Isometry3d::Identity(), points, nullptr).fault;
+}
+
+TEST(CloudConversion, ReadsFloat32AndFloat64WithAnyOffsetsAndRowPadding) {
+  const auto expected = samplePoints();
+  for (const auto& cloud : {makeCloud<float>(expected, sensor_msgs::PointField::FLOAT32),
+                            makeCloud<double>(expected, sensor_msgs::PointField::FLOAT64, 2, 5)}) {
+    std::vector<Eigen::Vector3d> points;
+    std::size_t non_finite = 99;
+    const auto status =
+        rc::pointsFromCloud(cloud, Eigen::Isometry3d::Identity(), points, &non_finite);
+    ASSERT_TRUE(status.ok()) << status.reason;
+    ASSERT_EQ(points.size(), expected.size());
+    EXPECT_EQ(non_finite, 0u);
+    for (std::size_t i = 0; i < points.size(); ++i) EXPECT_TRUE(points[i].isApprox(expected[i]));
+  }
+}
+
+TEST(CloudConversion, AppliesTheTransformInDouble) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  t.translation() = Eigen::Vector3d(0.1, -0.2, 0.3);
+  const auto expected = samplePoints();
+  std::vector<Eigen::Vector3d> points;
+  ASSERT_TRUE(rc::pointsFromCloud(makeCloud<double>(expected, sensor_msgs::PointField::FLOAT64), t,
+                                  points, nullptr)
+                  .ok());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    EXPECT_NEAR((points[i] - t * expected[i]).norm(), 0.0, 1e-12);
+  }
+}
+
+TEST(CloudConversion, SkipsNonFinitePointsAndRejectsAllNonFinite) {
+  auto pts = samplePoints();
+  pts[1].x() = std::numeric_limits<double>::quiet_NaN();
+  pts[3].z() = std::numeric_limits<double>::infinity();
+  std::vector<Eigen::Vector3d> points;
+  std::size_t non_finite = 0;
+  ASSERT_TRUE(rc::pointsFromCloud(makeCloud<float>(pts, sensor_msgs::PointField::FLOAT32),
+                                  Eigen::Isometry3d::Identity(), points, &non_finite)
+                  .ok());
+  EXPECT_EQ(points.size(), 4u);
+  EXPECT_EQ(non_finite, 2u);
+  for (auto& p : pts) p.y() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(cloudFault(makeCloud<float>(pts, sensor_msgs::PointField::FLOAT32)),
+            InputFault::kCloudNoFinitePoint);
+}
+
+TEST(CloudConversion, RejectsEveryMalformedLayoutWithItsReason) {
+  const auto good = makeCloud<float>(samplePoints(), sensor_msgs::PointField::FLOAT32);
+  ASSERT_EQ(cloudFault(good), InputFault::kNone);
+  auto broken = [&](const std::function<void(sensor_msgs::PointCloud2&)>& edit) {
+    sensor_msgs::PointCloud2 cloud = good;
+    edit(cloud);
+    return cloudFault(cloud);
+  };
+  EXPECT_EQ(broken([](auto& c) { c.fields.erase(c.fields.begin() + 1); }),
+            InputFault::kCloudMissingField);  // no z
+  EXPECT_EQ(broken([](auto& c) { c.fields[2].name = "X"; }), InputFault::kCloudMissingField);
+  EXPECT_EQ(broken([](auto& c) { c.fields[2].datatype = sensor_msgs::PointField::INT32; }),
+            InputFault::kCloudFieldDatatype);
+  EXPECT_EQ(broken([](auto& c) { c.fields[3].datatype = sensor_msgs::PointField::UINT8; }),
+            InputFault::kCloudFieldDatatype);
+  EXPECT_EQ(broken([](auto& c) { c.fields[1].count = 3; }), InputFault::kCloudFieldCount);
+  EXPECT_EQ(broken([](auto& c) { c.fields[1].count = 0; }), InputFault::kCloudFieldCount);
+  EXPECT_EQ(broken([](auto& c) { c.fields[1].offset = c.point_step - 3; }),
+            InputFault::kCloudFieldOffset);
+  EXPECT_EQ(broken([](auto& c) { c.fields[2].offset = 0xFFFFFFFF; }),  // offset + 4 wraps in 32 bits
+            InputFault::kCloudFieldOffset);
+  EXPECT_EQ(broken([](auto& c) { c.point_step = 0; }), InputFault::kCloudFieldOffset);
+  EXPECT_EQ(broken([](auto& c) { c.fields[1].datatype = sensor_msgs::PointField::FLOAT64; }),
+            InputFault::kCloudFieldOffset);  // z as double at offset 12 runs past point_step 19
+  EXPECT_EQ(broken([](auto& c) { c.data.pop_back(); }), InputFault::kCloudDataTooShort);
+  EXPECT_EQ(broken([](auto& c) { c.height = 2; }), InputFault::kCloudDataTooShort);
+  EXPECT_EQ(broken([](auto& c) { c.row_step -= 1; }), InputFault::kCloudLayout);
+  EXPECT_EQ(broken([](auto& c) { c.is_bigendian = true; }), InputFault::kCloudBigEndian);
+  EXPECT_EQ(broken([](auto& c) { c.width = 0; }), InputFault::kCloudEmpty);
+  EXPECT_EQ(broken([](auto& c) { c.height = 0; }), InputFault::kCloudEmpty);
+  // width * height and row_step * height do not wrap around in 32 bits.
+  EXPECT_EQ(broken([](auto& c) {
+              c.width = 0x10000;
+              c.height = 0x10000;
+              c.row_step = c.width * c.point_step;
+            }),
+            InputFault::kCloudDataTooShort);
+  EXPECT_EQ(broken([](auto& c) {
+              c.width = 0xFFFFFFFF;
+              c.row_step = 0xFFFFFFFF;
+            }),
+            InputFault::kCloudLayout);
+}
+
+TEST(CloudConversion, FloatOverloadMatches) {
+  std::vector<Eigen::Vector3f> points;
+  ASSERT_TRUE(
+      rc::pointsFromCloud(makeCloud<float>(samplePoints(), sensor_msgs::PointField::FLOAT32), points)
+          .ok());
+  EXPECT_EQ(points.size(), samplePoints().size());
+  EXPECT_FLOAT_EQ(points[1].x(), -4.5f);
+}
+
+sensor_msgs::Image makeImage(const std::string& encoding, int channels, int width, int height,
+                             int padding) {
+  sensor_msgs::Image image;
+  image.encoding = encoding;
+  image.width = width;
+  image.height = height;
+  image.step = width * channels + padding;
+  image.data.assign(std::size_t(image.step) * height, 0);
+  for (int v = 0; v < height; ++v) {
+    for (int u = 0; u < width; ++u) {
+      for (int ch = 0; ch < channels; ++ch) {
+        image.data[v * image.step + u * channels + ch] = std::uint8_t(10 * ch + u + 3 * v);
+      }
+    }
+  }
+  return image;
+}
+
+TEST(ImageConversion, EveryEncodingGivesRgbHonouringStep) {
+  struct Case {
+    std::string encoding;
+    int channels;
+    int r, g, b;  // channel index holding R, G, B
+  };
+  for (const Case& c : std::vector<Case>{{enc::RGB8, 3, 0, 1, 2},
+                                         {enc::BGR8, 3, 2, 1, 0},
+                                         {enc::RGBA8, 4, 0, 1, 2},
+                                         {enc::BGRA8, 4, 2, 1, 0},
+                                         {enc::MONO8, 1, 0, 0, 0}}) {
+    const sensor_msgs::Image image = makeImage(c.encoding, c.channels, 7, 5, 3);
+    cv::Mat rgb;
+    ASSERT_TRUE(rc::rgbFromImage(image, rgb).ok()) << c.encoding;
+    ASSERT_EQ(rgb.type(), CV_8UC3);
+    ASSERT_EQ(rgb.rows, 5);
+    ASSERT_EQ(rgb.cols, 7);
+    for (int v = 0; v < 5; ++v) {
+      for (int u = 0; u < 7; ++u) {
+        const cv::Vec3b px = rgb.at<cv::Vec3b>(v, u);
+        const std::uint8_t* in = &image.data[v * image.step + u * c.channels];
+        ASSERT_EQ(px[0], in[c.r]) << c.encoding;
+        ASSERT_EQ(px[1], in[c.g]) << c.encoding;
+        ASSERT_EQ(px[2], in[c.b]) << c.encoding;
+      }
+    }
+  }
+}
+
+TEST(ImageConversion, Rgb8IsWrappedWithoutCopy) {
+  const sensor_msgs::Image image = makeImage(enc::RGB8, 3, 4, 3, 2);
+  cv::Mat rgb;
+  ASSERT_TRUE(rc::rgbFromImage(image, rgb).ok());
+  EXPECT_EQ(rgb.data, image.data.data());
+  EXPECT_EQ(rgb.step[0], image.step);
+}
+
+TEST(ImageConversion, RejectsBadEncodingStepAndSize) {
+  sensor_msgs::Image image = makeImage(enc::BGR8, 3, 4, 3, 0);
+  cv::Mat rgb;
+  image.encoding = enc::TYPE_16UC1;
+  EXPECT_EQ(rc::rgbFromImage(image, rgb).fault, InputFault::kImageEncoding);
+  image.encoding = "bayer_rggb8";
+  EXPECT_EQ(rc::validateImage(image).fault, InputFault::kImageEncoding);
+  image.encoding = enc::BGR8;
+  image.step = 11;
+  EXPECT_EQ(rc::rgbFromImage(image, rgb).fault, InputFault::kImageStep);
+  image.step = 12;
+  image.data.pop_back();
+  EXPECT_EQ(rc::rgbFromImage(image, rgb).fault, InputFault::kImageStep);
+  image.width = 0;
+  EXPECT_EQ(rc::validateImage(image).fault, InputFault::kImageEmpty);
+}
+
+TEST(ImageConversion, DecodesPngAndJpegAndRejectsGarbage) {
+  cv::Mat bgr(6, 8, CV_8UC3, cv::Scalar(10, 120, 240));  // B, G, R
+  for (const char* ext : {".png", ".jpg"}) {
+    std::vector<std::uint8_t> bytes;
+    ASSERT_TRUE(cv::imencode(ext, bgr, bytes));
+    sensor_msgs::CompressedImage msg;
+    msg.format = ext;
+    msg.data = bytes;
+    cv::Mat rgb;
+    ASSERT_TRUE(rc::rgbFromCompressed(msg, rgb).ok()) << ext;
+    ASSERT_EQ(rgb.size(), bgr.size());
+    EXPECT_NEAR(rgb.at<cv::Vec3b>(2, 3)[0], 240, 3) << ext;
+    EXPECT_NEAR(rgb.at<cv::Vec3b>(2, 3)[2], 10, 3) << ext;
+  }
+  sensor_msgs::CompressedImage garbage;
+  garbage.format = "jpeg";
+  garbage.data = {1, 2, 3, 4};
+  cv::Mat rgb;
+  EXPECT_EQ(rc::rgbFromCompressed(garbage, rgb).fault, InputFault::kImageDecode);
+  garbage.data.clear();
+  EXPECT_EQ(rc::rgbFromCompressed(garbage, rgb).fault, InputFault::kImageDecode);
+}
+
+sensor_msgs::CameraInfo makeInfo() {
+  sensor_msgs::CameraInfo info;
+  info.width = 320;
+  info.height = 240;
+  info.K = {200, 0, 160, 0, 210, 120, 0, 0, 1};
+  info.P = {200, 0, 160, -20, 0, 210, 120, 0, 0, 0, 1, 0};
+  return info;
+}
+
+TEST(CameraInfoConversion, ReadsKAndChecksSize) {
+  mm::PinholeIntrinsics k;
+  ASSERT_TRUE(rc::intrinsicsFromCameraInfo(makeInfo(), mm::ImageSize{240, 320}, k).ok());
+  EXPECT_EQ(k.fx, 200);
+  EXPECT_EQ(k.fy, 210);
+  EXPECT_EQ(k.cx, 160);
+  EXPECT_EQ(k.cy, 120);
+  EXPECT_EQ(rc::intrinsicsFromCameraInfo(makeInfo(), mm::ImageSize{240, 321}, k).fault,
+            InputFault::kCameraInfoSize);
+  sensor_msgs::CameraInfo zero = makeInfo();
+  zero.K.fill(0.0);
+  EXPECT_EQ(rc::intrinsicsFromCameraInfo(zero, mm::ImageSize{240, 320}, k).fault,
+            InputFault::kCameraInfoIntrinsics);
+  sensor_msgs::CameraInfo nan = makeInfo();
+  nan.K[2] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(rc::intrinsicsFromCameraInfo(nan, mm::ImageSize{240, 320}, k).fault,
+            InputFault::kCameraInfoIntrinsics);
+  sensor_msgs::CameraInfo binned = makeInfo();
+  binned.binning_x = 2;
+  EXPECT_EQ(rc::intrinsicsFromCameraInfo(binned, mm::ImageSize{240, 320}, k).fault,
+            InputFault::kCameraInfoIntrinsics);
+}
+
+mm::DepthMap makeDepthMap() {
+  mm::DepthMap map;
+  map.grid = mm::StrideGrid{mm::ImageSize{5, 7}, 2};  // 3 x 4 grid
+  const std::size_t n = map.grid.size();
+  map.depth.resize(n);
+  map.variance.resize(n);
+  map.valid.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    map.valid[i] = i % 3 != 0;
+    map.depth[i] = map.valid[i] ? 2.0f + i : -1.0f;
+    map.variance[i] = i == 5 ? std::numeric_limits<float>::infinity() : 0.5f * i;
+  }
+  return map;
+}
+
+float floatAt(const sensor_msgs::Image& image, std::size_t i) {
+  float value;
+  std::memcpy(&value, &image.data[4 * i], 4);
+  return value;
+}
+
+TEST(OutputConversion, DepthVarianceAndMaskImages) {
+  const mm::DepthMap map = makeDepthMap();
+  std_msgs::Header header;
+  header.frame_id = "cam";
+  header.stamp = ros::Time(12, 34);
+  const auto depth = rc::depthImage(map, header);
+  const auto variance = rc::varianceImage(map, header);
+  const auto mask = rc::maskImage(map, header);
+  for (const auto& image : {depth, variance, mask}) {
+    EXPECT_EQ(image->header.frame_id, "cam");
+    EXPECT_EQ(image->header.stamp, header.stamp);
+    EXPECT_EQ(image->height, 3u);
+    EXPECT_EQ(image->width, 4u);
+  }
+  EXPECT_EQ(depth->encoding, enc::TYPE_32FC1);
+  EXPECT_EQ(depth->step, 16u);
+  EXPECT_EQ(mask->encoding, enc::MONO8);
+  for (std::size_t i = 0; i < map.depth.size(); ++i) {
+    if (map.valid[i]) {
+      EXPECT_EQ(floatAt(*depth, i), map.depth[i]);
+      EXPECT_EQ(mask->data[i], 255);
+    } else {
+      EXPECT_TRUE(std::isnan(floatAt(*depth, i)));
+      EXPECT_EQ(mask->data[i], 0);
+    }
+    EXPECT_EQ(floatAt(*variance, i), map.variance[i]);
+  }
+}
+
+TEST(OutputConversion, GridCameraInfoScalesByStride) {
+  const auto info = rc::gridCameraInfo(makeInfo(), mm::StrideGrid{mm::ImageSize{240, 320}, 4});
+  EXPECT_EQ(info->width, 80u);
+  EXPECT_EQ(info->height, 60u);
+  EXPECT_DOUBLE_EQ(info->K[0], 50);
+  EXPECT_DOUBLE_EQ(info->K[2], 40);
+  EXPECT_DOUBLE_EQ(info->K[4], 52.5);
+  EXPECT_DOUBLE_EQ(info->K[5], 30);
+  EXPECT_DOUBLE_EQ(info->K[8], 1);
+  EXPECT_DOUBLE_EQ(info->P[3], -5);
+  EXPECT_DOUBLE_EQ(info->P[10], 1);
+}
+
+TEST(OutputConversion, ColoredCloudBackProjectsKeptPixelsWithTheirColour) {
+  const mm::DepthMap map = makeDepthMap();
+  const mm::PinholeIntrinsics k{100, 120, 3, 2};
+  cv::Mat rgb(5, 7, CV_8UC3);
+  for (int v = 0; v < 5; ++v) {
+    for (int u = 0; u < 7; ++u) rgb.at<cv::Vec3b>(v, u) = cv::Vec3b(u * 30, v * 40, 7);
+  }
+  std_msgs::Header header;
+  header.frame_id = "cam";
+  for (int cloud_stride : {1, 2}) {
+    const auto cloud = rc::coloredCloud(map, k, rgb, cloud_stride, header);
+    EXPECT_EQ(cloud->header.frame_id, "cam");
+    std::vector<Eigen::Vector3f> points;
+    ASSERT_TRUE(rc::pointsFromCloud(*cloud, points).ok());
+    std::size_t expected_count = 0, i = 0;
+    for (int r = 0; r < map.grid.rows(); r += cloud_stride) {
+      for (int c = 0; c < map.grid.cols(); c += cloud_stride) {
+        const std::size_t index = r * map.grid.cols() + c;
+        if (!map.valid[index]) continue;
+        ++expected_count;
+        const int u = c * 2, v = r * 2;
+        const float z = map.depth[index];
+        ASSERT_LT(i, points.size());
+        EXPECT_NEAR(points[i].x(), (u - k.cx) * z / k.fx, 1e-5);
+        EXPECT_NEAR(points[i].y(), (v - k.cy) * z / k.fy, 1e-5);
+        EXPECT_EQ(points[i].z(), z);
+        std::uint32_t packed;
+        std::memcpy(&packed, &cloud->data[i * cloud->point_step + 12], 4);
+        const cv::Vec3b px = rgb.at<cv::Vec3b>(v, u);
+        EXPECT_EQ(packed, (std::uint32_t(px[0]) << 16) | (std::uint32_t(px[1]) << 8) | px[2]);
+        ++i;
+      }
+    }
+    EXPECT_EQ(cloud->width, expected_count);
+    EXPECT_EQ(cloud->row_step, cloud->width * cloud->point_step);
+  }
+}
+
+TEST(ConfigMapping, DefaultsAreTheCoreDefaultsExceptRetention) {
+  const mm::DepthCompletionSettings settings =
+      mm::settingsFromConfig(mm::DepthCompletionConfig::__getDefault__());
+  const mm::DepthCompletionParams core;
+  EXPECT_EQ(settings.params.model, core.model);
+  EXPECT_EQ(settings.params.radius_deg, core.radius_deg);
+  EXPECT_EQ(settings.params.gp.amplitude, core.gp.amplitude);
+  EXPECT_EQ(settings.params.gp.noise, core.gp.noise);
+  EXPECT_EQ(settings.params.gp.length_scale_min, core.gp.length_scale_min);
+  EXPECT_EQ(settings.params.gp.length_scale_max, core.gp.length_scale_max);
+  EXPECT_EQ(settings.params.gp.tolerance, core.gp.tolerance);
+  EXPECT_EQ(settings.params.gp.max_iterations, core.gp.max_iterations);
+  EXPECT_EQ(settings.params.kernel_length_scale_deg, core.kernel_length_scale_deg);
+  EXPECT_EQ(settings.params.shift.mode, core.shift.mode);
+  EXPECT_EQ(settings.params.var_threshold, core.var_threshold);
+  EXPECT_EQ(settings.params.max_neighbors, core.max_neighbors);
+  EXPECT_EQ(settings.params.approx_tile, core.approx_tile);
+  EXPECT_EQ(settings.params.retain_percent, 80.0);  // the paper's choice, not the reference's 100
+}
+
+TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
+  mm::DepthCompletionConfig config = mm::DepthCompletionConfig::__getDefault__();
+  config.model = "kernel";
+  config.shift = "12.5";
+  config.var_threshold = 4.0;
+  config.stride = 3;
+  const mm::DepthCompletionSettings settings = mm::settingsFromConfig(config);
+  EXPECT_EQ(settings.params.model, mm::DepthModel::kKernel);
+  EXPECT_EQ(settings.params.shift.mode, mm::DepthShift::Mode::kValue);
+  EXPECT_EQ(settings.params.shift.value, 12.5);
+  EXPECT_EQ(settings.params.var_threshold, 4.0);
+  mm::DepthCompletionConfig back = mm::DepthCompletionConfig::__getDefault__();
+  mm::writeSettingsToConfig(settings, back);
+  EXPECT_EQ(back.model, "kernel");
+  EXPECT_EQ(back.stride, 3);
+  EXPECT_EQ(mm::settingsFromConfig(back).params.shift.value, 12.5);
+
+  config.model = "no_such_model";
+  EXPECT_THROW(mm::settingsFromConfig(config), mm::InputError);
+  config.model = "local_gp_mle";
+  config.shift = "sideways";
+  EXPECT_THROW(mm::settingsFromConfig(config), mm::InputError);
+  config.shift = "median";
+  config.length_scale_min = 20.0;  // above length_scale_max
+  EXPECT_THROW(mm::settingsFromConfig(config), mm::InputError);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
