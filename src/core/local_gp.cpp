@@ -1,5 +1,7 @@
 #include "multimodal_nvs/core/local_gp.hpp"
 
+#include "multimodal_nvs/core/length_scale_search.hpp"
+
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <limits>
@@ -188,6 +190,18 @@ double LocalGp::negLogMarginalLikelihood(double length_scale) {
 }
 
 double LocalGp::searchLengthScale() {
+  if (n_ >= 3 && n_ <= LengthScaleSearch::kMaxBatchedSize) {
+    // The same code the batched model path runs, so a set's length scale never depends on the
+    // path that computed it.
+    LengthScaleSearch batch(params_);
+    std::vector<float> az(az_.begin(), az_.end()), el(el_.begin(), el_.end());
+    const float* paz = az.data();
+    const float* pel = el.data();
+    const double* py = y_.data();
+    double length_scale;
+    batch.search(n_, 1, &paz, &pel, &py, &length_scale);
+    return length_scale;
+  }
   return goldenSectionMinimize([this](double l) { return negLogMarginalLikelihood(l); },
                                params_.length_scale_min, params_.length_scale_max,
                                params_.tolerance, params_.max_iterations);
