@@ -115,13 +115,21 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   std::vector<std::uint8_t>& candidate = retention ? candidate_ : out.valid;
   candidate.resize(n);
   const float threshold = static_cast<float>(params.var_threshold);
-  long long predicted = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const float v = prediction.variance[i];
-    predicted += std::isfinite(v);
-    candidate[i] = std::isfinite(v) && v <= threshold && std::isfinite(prediction.mean[i]);
-  }
-  stats.predicted = predicted;
+  // Full-image passes split into chunks; per-chunk counts are summed afterwards (deterministic).
+  constexpr std::size_t kChunk = 1 << 16;
+  const long long chunks = static_cast<long long>((n + kChunk - 1) / kChunk);
+  std::vector<long long> chunk_count(chunks, 0);
+  pool_->parallelFor(chunks, [&](long long c, int) {
+    long long predicted = 0;
+    for (std::size_t i = c * kChunk; i < std::min<std::size_t>(n, (c + 1) * kChunk); ++i) {
+      const float v = prediction.variance[i];
+      predicted += std::isfinite(v);
+      candidate[i] = std::isfinite(v) && v <= threshold && std::isfinite(prediction.mean[i]);
+    }
+    chunk_count[c] = predicted;
+  });
+  stats.predicted = 0;
+  for (long long c : chunk_count) stats.predicted += c;
   if (retention) {
     out.valid.resize(n);
     keepLowestVariance(prediction.variance.data(), candidate.data(), n,
@@ -129,12 +137,16 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   }
   out.depth.swap(prediction.mean);
   out.variance.swap(prediction.variance);
-  long long kept = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!out.valid[i]) out.depth[i] = -1.0f;
-    kept += out.valid[i];
-  }
-  stats.kept = kept;
+  pool_->parallelFor(chunks, [&](long long c, int) {
+    long long kept = 0;
+    for (std::size_t i = c * kChunk; i < std::min<std::size_t>(n, (c + 1) * kChunk); ++i) {
+      if (!out.valid[i]) out.depth[i] = -1.0f;
+      kept += out.valid[i];
+    }
+    chunk_count[c] = kept;
+  });
+  stats.kept = 0;
+  for (long long c : chunk_count) stats.kept += c;
   stats.pixels = grid.size();
   stats.compute_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
