@@ -146,22 +146,30 @@ struct FrameMetrics {
   double psnr = 0, ssim = 0, covered_psnr = 0, coverage = 0;
 };
 
+/// Mean over the finite values only: a frame reproduced exactly (the reference view) has an
+/// infinite PSNR over its covered pixels, which no mean can include.
+double finiteMean(const std::vector<FrameMetrics>& rows, double FrameMetrics::*field,
+                  bool skip_first) {
+  double sum = 0;
+  int n = 0;
+  for (std::size_t i = skip_first ? 1 : 0; i < rows.size(); ++i) {
+    if (std::isfinite(rows[i].*field)) {
+      sum += rows[i].*field;
+      ++n;
+    }
+  }
+  return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
 std::string metricsJson(const std::vector<FrameMetrics>& rows, const std::string& splat) {
   std::ostringstream out;
   auto mean = [&](double FrameMetrics::*field, bool skip_first) {
-    double sum = 0;
-    int n = 0;
-    for (std::size_t i = skip_first ? 1 : 0; i < rows.size(); ++i) {
-      if (std::isfinite(rows[i].*field)) {
-        sum += rows[i].*field;
-        ++n;
-      }
-    }
-    return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
+    return finiteMean(rows, field, skip_first);
   };
   out << "{\n  \"protocol\": \"REFERENCE.md section 5: GT resized to the render size (bilinear), "
          "uint8 RGB; psnr/ssim on the preview (hole-filled, unlabelled) frames; covered_psnr and "
-         "coverage on the raw conditioning frames\",\n  \"splat\": \""
+         "coverage on the raw conditioning frames; means skip non-finite values (null here = +inf: "
+         "an exactly reproduced frame)\",\n  \"splat\": \""
       << splat << "\",\n  \"frames\": [\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const FrameMetrics& r = rows[i];
@@ -433,13 +441,10 @@ int run(int argc, char** argv) {
   if (!metrics.empty()) writeText(output + "/metrics.json", metricsJson(metrics, mm::toString(splat.mode)));
   const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
 
-  double mean_psnr = 0, mean_ssim = 0, mean_cov_psnr = 0, mean_cov = 0;
-  for (const FrameMetrics& m : metrics) {
-    mean_psnr += m.psnr / metrics.size();
-    mean_ssim += m.ssim / metrics.size();
-    mean_cov_psnr += m.covered_psnr / metrics.size();
-    mean_cov += m.coverage / metrics.size();
-  }
+  const double mean_psnr = finiteMean(metrics, &FrameMetrics::psnr, false);
+  const double mean_ssim = finiteMean(metrics, &FrameMetrics::ssim, false);
+  const double mean_cov_psnr = finiteMean(metrics, &FrameMetrics::covered_psnr, false);
+  const double mean_cov = finiteMean(metrics, &FrameMetrics::coverage, false);
   std::ostringstream json;
   json << "{\"frames\": " << num_frames << ", \"size\": [" << render_size.height << ", "
        << render_size.width << "], \"splat\": \"" << mm::toString(splat.mode)
