@@ -15,40 +15,24 @@ int mostSignificantBit(std::size_t n) {
   return depth;
 }
 
+// Moves a[i] down the max-heap a[1..n] (1-based, as numpy's implementation).
+void siftDown(const std::int64_t* v, int* a, std::ptrdiff_t i, std::ptrdiff_t n) {
+  const int moving = a[i];
+  for (std::ptrdiff_t j = i << 1; j <= n; i = j, j += j) {
+    if (j < n && v[a[j]] < v[a[j + 1]]) ++j;
+    if (!(v[moving] < v[a[j]])) break;
+    a[i] = a[j];
+  }
+  a[i] = moving;
+}
+
 // numpy's heapsort fallback of the introsort (taken when the recursion gets too deep).
 void argHeapsort(const std::int64_t* v, int* tosort, std::ptrdiff_t n) {
-  int* a = tosort - 1;  // 1-based indexing, as numpy's implementation
-  for (std::ptrdiff_t l = n >> 1; l > 0; --l) {
-    const int tmp = a[l];
-    std::ptrdiff_t i = l, j = l << 1;
-    while (j <= n) {
-      if (j < n && v[a[j]] < v[a[j + 1]]) j += 1;
-      if (v[tmp] < v[a[j]]) {
-        a[i] = a[j];
-        i = j;
-        j += j;
-      } else {
-        break;
-      }
-    }
-    a[i] = tmp;
-  }
-  for (; n > 1;) {
-    const int tmp = a[n];
-    a[n] = a[1];
-    n -= 1;
-    std::ptrdiff_t i = 1, j = 2;
-    while (j <= n) {
-      if (j < n && v[a[j]] < v[a[j + 1]]) j++;
-      if (v[tmp] < v[a[j]]) {
-        a[i] = a[j];
-        i = j;
-        j += j;
-      } else {
-        break;
-      }
-    }
-    a[i] = tmp;
+  int* a = tosort - 1;
+  for (std::ptrdiff_t l = n >> 1; l > 0; --l) siftDown(v, a, l, n);
+  for (; n > 1; --n) {
+    std::swap(a[1], a[n]);
+    siftDown(v, a, 1, n - 1);
   }
 }
 
