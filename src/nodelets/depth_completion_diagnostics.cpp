@@ -11,9 +11,8 @@ void DepthCompletionDiagnostics::start(ros::NodeHandle& nh, ros::NodeHandle& pri
   updater_->add("depth completion", this, &DepthCompletionDiagnostics::report);
   window_start_ = ros::WallTime::now();
   // Wall timer: diagnostics keep flowing while a bag's simulated clock is paused.
-  timer_ = nh.createWallTimer(ros::WallDuration(0.5), [this](const ros::WallTimerEvent&) {
-    updater_->update();
-  });
+  timer_ = nh.createWallTimer(ros::WallDuration(0.5),
+                              [this](const ros::WallTimerEvent&) { updater_->update(); });
 }
 
 void DepthCompletionDiagnostics::countInput(Input input) {

@@ -1,8 +1,8 @@
 #pragma once
 // Counters of the depth completion nodelet, reported through diagnostic_updater: input and output
 // rates over the last report period, latency, and every dropped or rejected message by reason.
-#include <array>
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <array>
 #include <memory>
 #include <mutex>
 #include <string>

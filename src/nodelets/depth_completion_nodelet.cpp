@@ -1,18 +1,18 @@
 // multimodal_nvs/DepthCompletion: synchronized PointCloud2 + Image + CameraInfo in; REP-118 depth,
 // variance, mask, coloured cloud and stats out. Wiring only: conversions live in
 // multimodal_nvs/ros/conversions.hpp and the algorithm in the core's DepthCompleter.
-#include <boost/make_shared.hpp>
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/camera_publisher.h>
 #include <image_transport/image_transport.h>
 #include <image_transport/subscriber_filter.h>
 #include <message_filters/subscriber.h>
 #include <nodelet/nodelet.h>
-#include <pluginlib/class_list_macros.hpp>
 #include <sensor_msgs/CompressedImage.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
+#include <boost/make_shared.hpp>
+#include <pluginlib/class_list_macros.hpp>
 
 #include <functional>
 #include <memory>
@@ -116,10 +116,10 @@ void DepthCompletionNodelet::onInit() {
 
   // The .cfg defaults first, then whatever the parameter server (YAML) holds, through one mapping.
   settings_ = settingsFromConfig(Config::__getDefault__());
-  reconfigure_server_ = std::make_unique<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, pnh);
-  reconfigure_server_->setCallback(
-      boost::bind(&DepthCompletionNodelet::reconfigure, this, boost::placeholders::_1,
-                  boost::placeholders::_2));
+  reconfigure_server_ =
+      std::make_unique<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, pnh);
+  reconfigure_server_->setCallback(boost::bind(&DepthCompletionNodelet::reconfigure, this,
+                                               boost::placeholders::_1, boost::placeholders::_2));
 
   it_ = std::make_unique<image_transport::ImageTransport>(nh);
   if (compressed_input_) {
@@ -134,9 +134,8 @@ void DepthCompletionNodelet::onInit() {
                     boost::placeholders::_2, boost::placeholders::_3));
   }
   using Input = DepthCompletionDiagnostics::Input;
-  points_sub_.registerCallback([this](const sensor_msgs::PointCloud2ConstPtr&) {
-    diagnostics_.countInput(Input::kPoints);
-  });
+  points_sub_.registerCallback(
+      [this](const sensor_msgs::PointCloud2ConstPtr&) { diagnostics_.countInput(Input::kPoints); });
   image_sub_.registerCallback(
       [this](const sensor_msgs::ImageConstPtr&) { diagnostics_.countInput(Input::kImage); });
   compressed_sub_.registerCallback([this](const sensor_msgs::CompressedImageConstPtr&) {
@@ -150,7 +149,8 @@ void DepthCompletionNodelet::onInit() {
 
 void DepthCompletionNodelet::advertiseOutputs() {
   ros::NodeHandle& nh = getNodeHandle();
-  image_transport::SubscriberStatusCallback image_cb = boost::bind(&DepthCompletionNodelet::connectCb, this);
+  image_transport::SubscriberStatusCallback image_cb =
+      boost::bind(&DepthCompletionNodelet::connectCb, this);
   ros::SubscriberStatusCallback topic_cb = boost::bind(&DepthCompletionNodelet::connectCb, this);
   std::lock_guard<std::mutex> lock(connect_mutex_);
   depth_pub_ = it_->advertiseCamera("depth/image", 1, image_cb, image_cb, topic_cb, topic_cb);
@@ -184,7 +184,10 @@ void DepthCompletionNodelet::connectCb() {
 
 void DepthCompletionNodelet::subscribeInputs() {
   ros::NodeHandle& nh = getNodeHandle();
-  const uint32_t queue = sync_settings_.queue_size;
+  // One message per topic waits for the frame callback (the newest wins): when a frame takes
+  // longer than the input period, stale inputs are dropped instead of delaying every later frame.
+  // Pairing slack lives in the synchronizer's own queue (queue_size).
+  const uint32_t queue = 1;
   points_sub_.subscribe(nh, "points", queue);
   info_sub_.subscribe(nh, "camera_info", queue);
   if (compressed_input_) {
@@ -199,8 +202,8 @@ void DepthCompletionNodelet::onRawFrame(const RawSync::PointsEvent& points,
                                         const RawSync::ImageEvent& image,
                                         const RawSync::InfoEvent& info) {
   diagnostics_.countInput(DepthCompletionDiagnostics::Input::kSet);
-  const ros::Time receipt = std::max({points.getReceiptTime(), image.getReceiptTime(),
-                                      info.getReceiptTime()});
+  const ros::Time receipt =
+      std::max({points.getReceiptTime(), image.getReceiptTime(), info.getReceiptTime()});
   const sensor_msgs::Image& msg = *image.getConstMessage();
   if (!accept(rc::validateImage(msg), "image")) return;
   // rgb8 is wrapped without a copy; `msg` outlives the frame.
@@ -213,8 +216,8 @@ void DepthCompletionNodelet::onCompressedFrame(const CompressedSync::PointsEvent
                                                const CompressedSync::ImageEvent& image,
                                                const CompressedSync::InfoEvent& info) {
   diagnostics_.countInput(DepthCompletionDiagnostics::Input::kSet);
-  const ros::Time receipt = std::max({points.getReceiptTime(), image.getReceiptTime(),
-                                      info.getReceiptTime()});
+  const ros::Time receipt =
+      std::max({points.getReceiptTime(), image.getReceiptTime(), info.getReceiptTime()});
   // Decoding is the only way to learn the image size, so it happens for every synced set.
   cv::Mat rgb;
   if (!accept(rc::rgbFromCompressed(*image.getConstMessage(), rgb), "image/compressed")) return;
@@ -239,7 +242,8 @@ void DepthCompletionNodelet::processFrame(const sensor_msgs::PointCloud2& cloud,
   Eigen::Isometry3d sensor_to_camera;
   if (!lookupSensorToCamera(cloud.header, image_header.frame_id, sensor_to_camera)) return;
   std::size_t non_finite = 0;
-  if (!accept(rc::pointsFromCloud(cloud, sensor_to_camera, points_camera_, &non_finite), "points")) {
+  if (!accept(rc::pointsFromCloud(cloud, sensor_to_camera, points_camera_, &non_finite),
+              "points")) {
     return;
   }
   DepthMap depth;
@@ -265,7 +269,8 @@ void DepthCompletionNodelet::publishOutputs(const DepthMap& depth,
     grid_info->header = header;
     depth_pub_.publish(rc::depthImage(depth, header), grid_info);
   }
-  if (variance_pub_.getNumSubscribers() > 0) variance_pub_.publish(rc::varianceImage(depth, header));
+  if (variance_pub_.getNumSubscribers() > 0)
+    variance_pub_.publish(rc::varianceImage(depth, header));
   if (mask_pub_.getNumSubscribers() > 0) mask_pub_.publish(rc::maskImage(depth, header));
   cv::Mat rgb;
   if (points_pub_.getNumSubscribers() > 0 && accept(colour(rgb), "image")) {
@@ -274,11 +279,11 @@ void DepthCompletionNodelet::publishOutputs(const DepthMap& depth,
   const double latency_ms = (ros::Time::now() - receipt).toSec() * 1e3;
   diagnostics_.countPublished(latency_ms, depth.stats.compute_ms);
   if (stats_pub_.getNumSubscribers() == 0) return;
-  publishStats(stats_pub_, header,
-               FrameStatsFields{unsigned(depth.stats.points_total),
-                                unsigned(depth.stats.points_in_view),
-                                unsigned(depth.stats.neighbour_sets), unsigned(depth.stats.kept),
-                                depth.stats.compute_ms, latency_ms});
+  publishStats(
+      stats_pub_, header,
+      FrameStatsFields{unsigned(depth.stats.points_total), unsigned(depth.stats.points_in_view),
+                       unsigned(depth.stats.neighbour_sets), unsigned(depth.stats.kept),
+                       depth.stats.compute_ms, latency_ms});
 }
 
 bool DepthCompletionNodelet::lookupSensorToCamera(const std_msgs::Header& cloud_header,

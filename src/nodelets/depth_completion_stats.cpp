@@ -1,7 +1,7 @@
 #include "depth_completion_stats.hpp"
 
-#include <boost/make_shared.hpp>
 #include <multimodal_nvs/DepthCompletionStats.h>
+#include <boost/make_shared.hpp>
 
 namespace multimodal_nvs {
 

@@ -1,5 +1,7 @@
 #include "multimodal_nvs/ros/conversions.hpp"
 
+#include <sensor_msgs/image_encodings.h>
+#include <sensor_msgs/point_field_conversion.h>
 #include <boost/make_shared.hpp>
 #include <cmath>
 #include <cstdint>
@@ -7,8 +9,6 @@
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <sensor_msgs/image_encodings.h>
-#include <sensor_msgs/point_field_conversion.h>
 #include <sstream>
 
 #include "multimodal_nvs/core/errors.hpp"
@@ -20,23 +20,40 @@ namespace enc = sensor_msgs::image_encodings;
 
 const char* toString(InputFault fault) {
   switch (fault) {
-    case InputFault::kNone: return "none";
-    case InputFault::kCloudMissingField: return "cloud_missing_field";
-    case InputFault::kCloudFieldDatatype: return "cloud_field_datatype";
-    case InputFault::kCloudFieldCount: return "cloud_field_count";
-    case InputFault::kCloudFieldOffset: return "cloud_field_offset";
-    case InputFault::kCloudLayout: return "cloud_layout";
-    case InputFault::kCloudDataTooShort: return "cloud_data_too_short";
-    case InputFault::kCloudBigEndian: return "cloud_big_endian";
-    case InputFault::kCloudEmpty: return "cloud_empty";
-    case InputFault::kCloudNoFinitePoint: return "cloud_no_finite_point";
-    case InputFault::kImageEncoding: return "image_encoding";
-    case InputFault::kImageStep: return "image_step";
-    case InputFault::kImageEmpty: return "image_empty";
-    case InputFault::kImageDecode: return "image_decode";
-    case InputFault::kCameraInfoIntrinsics: return "camera_info_intrinsics";
-    case InputFault::kCameraInfoSize: return "camera_info_size";
-    case InputFault::kTransformUnavailable: return "transform_unavailable";
+    case InputFault::kNone:
+      return "none";
+    case InputFault::kCloudMissingField:
+      return "cloud_missing_field";
+    case InputFault::kCloudFieldDatatype:
+      return "cloud_field_datatype";
+    case InputFault::kCloudFieldCount:
+      return "cloud_field_count";
+    case InputFault::kCloudFieldOffset:
+      return "cloud_field_offset";
+    case InputFault::kCloudLayout:
+      return "cloud_layout";
+    case InputFault::kCloudDataTooShort:
+      return "cloud_data_too_short";
+    case InputFault::kCloudBigEndian:
+      return "cloud_big_endian";
+    case InputFault::kCloudEmpty:
+      return "cloud_empty";
+    case InputFault::kCloudNoFinitePoint:
+      return "cloud_no_finite_point";
+    case InputFault::kImageEncoding:
+      return "image_encoding";
+    case InputFault::kImageStep:
+      return "image_step";
+    case InputFault::kImageEmpty:
+      return "image_empty";
+    case InputFault::kImageDecode:
+      return "image_decode";
+    case InputFault::kCameraInfoIntrinsics:
+      return "camera_info_intrinsics";
+    case InputFault::kCameraInfoSize:
+      return "camera_info_size";
+    case InputFault::kTransformUnavailable:
+      return "transform_unavailable";
   }
   return "unknown";
 }
@@ -85,9 +102,9 @@ ConversionStatus findXyz(const sensor_msgs::PointCloud2& cloud, XyzLayout& layou
                  " (expected FLOAT32=7 or FLOAT64=8)"));
     }
     if (field->count != 1) {
-      return ConversionStatus::failure(
-          InputFault::kCloudFieldCount,
-          concat("PointCloud2 field '", kNames[axis], "' has count ", field->count, " (expected 1)"));
+      return ConversionStatus::failure(InputFault::kCloudFieldCount,
+                                       concat("PointCloud2 field '", kNames[axis], "' has count ",
+                                              field->count, " (expected 1)"));
     }
     const std::uint64_t size = field->datatype == sensor_msgs::PointField::FLOAT32 ? 4 : 8;
     if (std::uint64_t(field->offset) + size > cloud.point_step) {
@@ -140,7 +157,8 @@ ConversionStatus validateCloud(const sensor_msgs::PointCloud2& cloud, XyzLayout&
   const std::uint64_t points = std::uint64_t(cloud.width) * cloud.height;
   if (points == 0) {
     return ConversionStatus::failure(
-        InputFault::kCloudEmpty, concat("PointCloud2 is empty (", cloud.width, "x", cloud.height, ")"));
+        InputFault::kCloudEmpty,
+        concat("PointCloud2 is empty (", cloud.width, "x", cloud.height, ")"));
   }
   if (std::uint64_t(cloud.width) * cloud.point_step > cloud.row_step) {
     return ConversionStatus::failure(
@@ -202,7 +220,8 @@ ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
       pointsFromCloud(cloud, Eigen::Isometry3d::Identity(), points_double, nullptr);
   points.clear();
   points.reserve(points_double.size());
-  for (const auto& p : points_double) points.push_back(p.cast<float>());
+  for (const auto& p : points_double)
+    points.push_back(p.cast<float>());
   return status;
 }
 
@@ -233,15 +252,14 @@ ConversionStatus validateImage(const sensor_msgs::Image& image) {
   // Rows are addressed with int by OpenCV.
   if (image.width > std::uint32_t(std::numeric_limits<int>::max() / 4) ||
       image.height > std::uint32_t(std::numeric_limits<int>::max())) {
-    return ConversionStatus::failure(InputFault::kImageStep,
-                                     concat("Image size ", image.width, "x", image.height,
-                                            " is too large"));
+    return ConversionStatus::failure(InputFault::kImageStep, concat("Image size ", image.width, "x",
+                                                                    image.height, " is too large"));
   }
   const std::uint64_t min_step = std::uint64_t(image.width) * channels;
   if (image.step < min_step) {
-    return ConversionStatus::failure(
-        InputFault::kImageStep, concat("Image step ", image.step, " is smaller than width ",
-                                       image.width, " * ", channels, " channels"));
+    return ConversionStatus::failure(InputFault::kImageStep,
+                                     concat("Image step ", image.step, " is smaller than width ",
+                                            image.width, " * ", channels, " channels"));
   }
   const std::uint64_t needed = std::uint64_t(image.step) * image.height;
   if (image.data.size() < needed) {
@@ -358,7 +376,8 @@ sensor_msgs::ImagePtr varianceImage(const DepthMap& depth, const std_msgs::Heade
 
 sensor_msgs::ImagePtr maskImage(const DepthMap& depth, const std_msgs::Header& header) {
   auto image = gridImage(depth.grid, enc::MONO8, 1, header);
-  for (std::size_t i = 0; i < depth.valid.size(); ++i) image->data[i] = depth.valid[i] ? 255 : 0;
+  for (std::size_t i = 0; i < depth.valid.size(); ++i)
+    image->data[i] = depth.valid[i] ? 255 : 0;
   return image;
 }
 
@@ -368,8 +387,10 @@ sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full,
   info->width = grid.cols();
   info->height = grid.rows();
   const double s = grid.stride;
-  for (int i : {0, 2, 4, 5}) info->K[i] /= s;
-  for (int i : {0, 2, 3, 5, 6, 7}) info->P[i] /= s;
+  for (int i : {0, 2, 4, 5})
+    info->K[i] /= s;
+  for (int i : {0, 2, 3, 5, 6, 7})
+    info->P[i] /= s;
   return info;
 }
 
@@ -393,11 +414,12 @@ sensor_msgs::PointCloud2Ptr coloredCloud(const DepthMap& depth, const PinholeInt
 
   const StrideGrid& grid = depth.grid;
   const int step = std::max(1, cloud_stride);
-  const bool has_colour = rgb.type() == CV_8UC3 && rgb.rows == grid.image.height &&
-                          rgb.cols == grid.image.width;
+  const bool has_colour =
+      rgb.type() == CV_8UC3 && rgb.rows == grid.image.height && rgb.cols == grid.image.width;
   std::size_t count = 0;
   for (int r = 0; r < grid.rows(); r += step) {
-    for (int c = 0; c < grid.cols(); c += step) count += depth.valid[std::size_t(r) * grid.cols() + c];
+    for (int c = 0; c < grid.cols(); c += step)
+      count += depth.valid[std::size_t(r) * grid.cols() + c];
   }
   cloud->data.resize(count * cloud->point_step);
   std::uint8_t* out = cloud->data.data();

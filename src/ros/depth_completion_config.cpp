@@ -22,8 +22,8 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.shift = DepthShift::parse(config.shift);
   p.retain_percent = config.retain_percent;
   // dynamic_reconfigure cannot carry infinity, so 0 stands for "no threshold".
-  p.var_threshold = config.var_threshold > 0.0 ? config.var_threshold
-                                               : std::numeric_limits<double>::infinity();
+  p.var_threshold =
+      config.var_threshold > 0.0 ? config.var_threshold : std::numeric_limits<double>::infinity();
   p.max_neighbors = config.max_neighbors;
   p.approx_tile = config.approx_tile;
   p.threads = config.threads;

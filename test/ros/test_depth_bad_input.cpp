@@ -76,17 +76,18 @@ std::vector<BadCase> badCases() {
 class BadInputTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    depth_sub_ = nh_.subscribe<sensor_msgs::Image>(
-        "depth/image", 20, [this](const sensor_msgs::ImageConstPtr& msg) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          output_stamps_.insert(msg->header.stamp);
-        });
+    depth_sub_ = nh_.subscribe<sensor_msgs::Image>("depth/image", 20,
+                                                   [this](const sensor_msgs::ImageConstPtr& msg) {
+                                                     std::lock_guard<std::mutex> lock(mutex_);
+                                                     output_stamps_.insert(msg->header.stamp);
+                                                   });
     diagnostics_sub_ = nh_.subscribe<diagnostic_msgs::DiagnosticArray>(
         "/diagnostics", 20, [this](const diagnostic_msgs::DiagnosticArrayConstPtr& msg) {
           std::lock_guard<std::mutex> lock(mutex_);
           for (const auto& status : msg->status) {
             if (status.name.find("depth completion") == std::string::npos) continue;
-            for (const auto& kv : status.values) rejected_[kv.key] = kv.value;
+            for (const auto& kv : status.values)
+              rejected_[kv.key] = kv.value;
           }
         });
     static_tf_.sendTransform(ss::sensorToCameraMsg(ros::Time(0)));

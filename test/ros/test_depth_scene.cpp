@@ -54,13 +54,13 @@ class DepthSceneTest : public ::testing::Test {
     ros::NodeHandle nh;
     outputs_ = new Outputs;
     Outputs& out = *outputs_;
-    subscribers_ = new std::vector<ros::Subscriber>{
-        keepLatest(nh, "depth/image", out, &Outputs::depth),
-        keepLatest(nh, "depth/camera_info", out, &Outputs::info),
-        keepLatest(nh, "depth/variance", out, &Outputs::variance),
-        keepLatest(nh, "depth/mask", out, &Outputs::mask),
-        keepLatest(nh, "depth/points", out, &Outputs::points),
-        keepLatest(nh, "depth/stats", out, &Outputs::stats)};
+    subscribers_ =
+        new std::vector<ros::Subscriber>{keepLatest(nh, "depth/image", out, &Outputs::depth),
+                                         keepLatest(nh, "depth/camera_info", out, &Outputs::info),
+                                         keepLatest(nh, "depth/variance", out, &Outputs::variance),
+                                         keepLatest(nh, "depth/mask", out, &Outputs::mask),
+                                         keepLatest(nh, "depth/points", out, &Outputs::points),
+                                         keepLatest(nh, "depth/stats", out, &Outputs::stats)};
     static tf2_ros::StaticTransformBroadcaster static_tf;
     static_tf.sendTransform(ss::sensorToCameraMsg(ros::Time(0)));
     ros::Publisher points_pub = nh.advertise<sensor_msgs::PointCloud2>("points", 1);
@@ -73,7 +73,8 @@ class DepthSceneTest : public ::testing::Test {
       points_pub.publish(ss::cloud(stamp_));
       image_pub.publish(ss::image(stamp_));
       info_pub.publish(ss::cameraInfo(stamp_));
-      for (int i = 0; i < 20 && !out.completeFor(stamp_); ++i) ros::WallDuration(0.05).sleep();
+      for (int i = 0; i < 20 && !out.completeFor(stamp_); ++i)
+        ros::WallDuration(0.05).sleep();
       if (out.completeFor(stamp_)) return;
     }
   }
@@ -143,7 +144,8 @@ TEST_F(DepthSceneTest, VarianceGrowsAwayFromPoints) {
   EXPECT_LT(near_sky, sky);
   EXPECT_NEAR(sky, 25.0 * 25.0, 1e-3);
   for (int v = 0; v < ss::kHeight; ++v) {
-    for (int u = 0; u < ss::kWidth; ++u) ASSERT_GE(floatAt(variance, u, v), 0.0f);
+    for (int u = 0; u < ss::kWidth; ++u)
+      ASSERT_GE(floatAt(variance, u, v), 0.0f);
   }
 }
 

@@ -71,7 +71,8 @@ TEST(CloudConversion, ReadsFloat32AndFloat64WithAnyOffsetsAndRowPadding) {
     ASSERT_TRUE(status.ok()) << status.reason;
     ASSERT_EQ(points.size(), expected.size());
     EXPECT_EQ(non_finite, 0u);
-    for (std::size_t i = 0; i < points.size(); ++i) EXPECT_TRUE(points[i].isApprox(expected[i]));
+    for (std::size_t i = 0; i < points.size(); ++i)
+      EXPECT_TRUE(points[i].isApprox(expected[i]));
   }
 }
 
@@ -100,7 +101,8 @@ TEST(CloudConversion, SkipsNonFinitePointsAndRejectsAllNonFinite) {
                   .ok());
   EXPECT_EQ(points.size(), 4u);
   EXPECT_EQ(non_finite, 2u);
-  for (auto& p : pts) p.y() = std::numeric_limits<double>::quiet_NaN();
+  for (auto& p : pts)
+    p.y() = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(cloudFault(makeCloud<float>(pts, sensor_msgs::PointField::FLOAT32)),
             InputFault::kCloudNoFinitePoint);
 }
@@ -124,8 +126,9 @@ TEST(CloudConversion, RejectsEveryMalformedLayoutWithItsReason) {
   EXPECT_EQ(broken([](auto& c) { c.fields[1].count = 0; }), InputFault::kCloudFieldCount);
   EXPECT_EQ(broken([](auto& c) { c.fields[1].offset = c.point_step - 3; }),
             InputFault::kCloudFieldOffset);
-  EXPECT_EQ(broken([](auto& c) { c.fields[2].offset = 0xFFFFFFFF; }),  // offset + 4 wraps in 32 bits
-            InputFault::kCloudFieldOffset);
+  EXPECT_EQ(
+      broken([](auto& c) { c.fields[2].offset = 0xFFFFFFFF; }),  // offset + 4 wraps in 32 bits
+      InputFault::kCloudFieldOffset);
   EXPECT_EQ(broken([](auto& c) { c.point_step = 0; }), InputFault::kCloudFieldOffset);
   EXPECT_EQ(broken([](auto& c) { c.fields[1].datatype = sensor_msgs::PointField::FLOAT64; }),
             InputFault::kCloudFieldOffset);  // z as double at offset 12 runs past point_step 19
@@ -151,9 +154,9 @@ TEST(CloudConversion, RejectsEveryMalformedLayoutWithItsReason) {
 
 TEST(CloudConversion, FloatOverloadMatches) {
   std::vector<Eigen::Vector3f> points;
-  ASSERT_TRUE(
-      rc::pointsFromCloud(makeCloud<float>(samplePoints(), sensor_msgs::PointField::FLOAT32), points)
-          .ok());
+  ASSERT_TRUE(rc::pointsFromCloud(
+                  makeCloud<float>(samplePoints(), sensor_msgs::PointField::FLOAT32), points)
+                  .ok());
   EXPECT_EQ(points.size(), samplePoints().size());
   EXPECT_FLOAT_EQ(points[1].x(), -4.5f);
 }
@@ -353,7 +356,8 @@ TEST(OutputConversion, ColoredCloudBackProjectsKeptPixelsWithTheirColour) {
   const mm::PinholeIntrinsics k{100, 120, 3, 2};
   cv::Mat rgb(5, 7, CV_8UC3);
   for (int v = 0; v < 5; ++v) {
-    for (int u = 0; u < 7; ++u) rgb.at<cv::Vec3b>(v, u) = cv::Vec3b(u * 30, v * 40, 7);
+    for (int u = 0; u < 7; ++u)
+      rgb.at<cv::Vec3b>(v, u) = cv::Vec3b(u * 30, v * 40, 7);
   }
   std_msgs::Header header;
   header.frame_id = "cam";

@@ -2,12 +2,12 @@
 // ROS messages <-> core types. Everything that comes in is validated here, before the core sees
 // it, and a failure comes back as a typed InputFault with a specific reason: callbacks drop the
 // message and count the fault instead of catching exceptions. No algorithm lives here.
-#include <Eigen/Geometry>
-#include <opencv2/core.hpp>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
@@ -22,25 +22,25 @@ namespace ros_conversions {
 enum class InputFault {
   kNone = 0,
   // PointCloud2
-  kCloudMissingField,    ///< no x, y or z field
-  kCloudFieldDatatype,   ///< x/y/z not FLOAT32 or FLOAT64
-  kCloudFieldCount,      ///< x/y/z field with count != 1
-  kCloudFieldOffset,     ///< field offset + size > point_step
-  kCloudLayout,          ///< point_step 0, width * point_step > row_step, or size overflow
-  kCloudDataTooShort,    ///< data.size() < row_step * height
-  kCloudBigEndian,       ///< byte order differs from the host's
-  kCloudEmpty,           ///< width * height == 0
-  kCloudNoFinitePoint,   ///< every point has a NaN or Inf coordinate
+  kCloudMissingField,   ///< no x, y or z field
+  kCloudFieldDatatype,  ///< x/y/z not FLOAT32 or FLOAT64
+  kCloudFieldCount,     ///< x/y/z field with count != 1
+  kCloudFieldOffset,    ///< field offset + size > point_step
+  kCloudLayout,         ///< point_step 0, width * point_step > row_step, or size overflow
+  kCloudDataTooShort,   ///< data.size() < row_step * height
+  kCloudBigEndian,      ///< byte order differs from the host's
+  kCloudEmpty,          ///< width * height == 0
+  kCloudNoFinitePoint,  ///< every point has a NaN or Inf coordinate
   // Image / CompressedImage
-  kImageEncoding,        ///< not rgb8, bgr8, rgba8, bgra8 or mono8
-  kImageStep,            ///< step < width * channels, or data shorter than step * height
-  kImageEmpty,           ///< width or height is 0
-  kImageDecode,          ///< compressed payload is not a decodable jpeg/png
+  kImageEncoding,  ///< not rgb8, bgr8, rgba8, bgra8 or mono8
+  kImageStep,      ///< step < width * channels, or data shorter than step * height
+  kImageEmpty,     ///< width or height is 0
+  kImageDecode,    ///< compressed payload is not a decodable jpeg/png
   // CameraInfo
-  kCameraInfoIntrinsics, ///< K not a valid pinhole matrix (e.g. all zero)
-  kCameraInfoSize,       ///< CameraInfo width/height differ from the image's
+  kCameraInfoIntrinsics,  ///< K not a valid pinhole matrix (e.g. all zero)
+  kCameraInfoSize,        ///< CameraInfo width/height differ from the image's
   // Pairing
-  kTransformUnavailable, ///< no tf from the cloud frame to the image frame at the cloud stamp
+  kTransformUnavailable,  ///< no tf from the cloud frame to the image frame at the cloud stamp
 };
 constexpr int kInputFaultCount = static_cast<int>(InputFault::kTransformUnavailable) + 1;
 
@@ -59,12 +59,13 @@ struct ConversionStatus {
   }
 };
 
-// ---- Inputs --------------------------------------------------------------------------------------
+// ---- Inputs
+// --------------------------------------------------------------------------------------
 
 /// Reads x, y, z (FLOAT32 or FLOAT64, any offsets, any extra fields, organised or not) and applies
 /// `sensor_to_camera` in double precision. Non-finite points are skipped and counted in
-/// `non_finite` (organised LiDAR clouds mark missing returns with NaN); a cloud whose points are all
-/// non-finite is rejected. `points` is cleared first.
+/// `non_finite` (organised LiDAR clouds mark missing returns with NaN); a cloud whose points are
+/// all non-finite is rejected. `points` is cleared first.
 ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
                                  const Eigen::Isometry3d& sensor_to_camera,
                                  std::vector<Eigen::Vector3d>& points, std::size_t* non_finite);
@@ -90,7 +91,8 @@ ConversionStatus intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info,
                                           const ImageSize& image_size,
                                           PinholeIntrinsics& intrinsics);
 
-// ---- Outputs -------------------------------------------------------------------------------------
+// ---- Outputs
+// -------------------------------------------------------------------------------------
 
 /// Depth 32FC1 in metres on the stride grid, NaN where the pixel is not kept (REP 118).
 sensor_msgs::ImagePtr depthImage(const DepthMap& depth, const std_msgs::Header& header);
@@ -101,7 +103,8 @@ sensor_msgs::ImagePtr maskImage(const DepthMap& depth, const std_msgs::Header& h
 
 /// CameraInfo describing the stride grid: the grid pixel (r, c) is the full-image pixel
 /// (c * s, r * s), so K and P divide by s (no half-pixel shift, as the grid has none).
-sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full, const StrideGrid& grid);
+sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full,
+                                          const StrideGrid& grid);
 
 /// XYZRGB cloud (float32 x, y, z, packed rgb) in the camera frame of the kept pixels, every
 /// `cloud_stride`-th grid pixel in each direction: P = z K^-1 [u, v, 1] at the full-image pixel,

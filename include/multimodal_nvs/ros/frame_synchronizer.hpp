@@ -1,14 +1,14 @@
 #pragma once
 // Pairs a PointCloud2, an image (raw Image or CompressedImage) and a CameraInfo by header stamp,
 // with the exact or the approximate message_filters policy chosen at run time.
-#include <boost/function.hpp>
-#include <memory>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/sync_policies/exact_time.h>
 #include <message_filters/synchronizer.h>
 #include <ros/message_event.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <boost/function.hpp>
+#include <memory>
 
 namespace multimodal_nvs {
 
@@ -16,7 +16,8 @@ struct SyncSettings {
   int queue_size = 5;
   /// ApproximateTime (default) pairs messages whose stamps differ; ExactTime needs equal stamps.
   bool approximate = true;
-  /// ApproximateTime only: sets whose stamps span more than this (s) are never formed; 0 = no limit.
+  /// ApproximateTime only: sets whose stamps span more than this (s) are never formed; 0 = no
+  /// limit.
   double max_interval = 0.0;
 };
 
