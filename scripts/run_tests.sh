@@ -4,8 +4,11 @@
 set -uo pipefail
 BUILD_DIR=${1:-build}
 export PATH=/usr/bin:/bin:$PATH
+# Debian's ROS profile scripts read unset variables: source them without nounset.
+set +u
 # shellcheck disable=SC1091
 source "$BUILD_DIR/devel/setup.bash"
+set -u
 export ROS_HOME=${ROS_HOME:-$(pwd)/$BUILD_DIR/ros_home}
 export ROS_LOG_DIR=${ROS_LOG_DIR:-$ROS_HOME/log}
 mkdir -p "$ROS_LOG_DIR"
