@@ -8,6 +8,6 @@ target_compile_definitions(test_core PRIVATE
   MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
 
 # ROS-side tests (rostest, gtest-in-rostest) register themselves in ros_tests.cmake.
-if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/cmake/ros_tests.cmake)
-  include(cmake/ros_tests.cmake)
-endif()
+include(cmake/ros_tests.cmake OPTIONAL)
+include(cmake/renderer_ros_tests.cmake OPTIONAL)
+include(cmake/bag_tests.cmake OPTIONAL)
