@@ -1,7 +1,9 @@
 #include "multimodal_nvs/core/synthetic_sensors.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <set>
 
 namespace multimodal_nvs {
 namespace synthetic {
@@ -168,6 +170,7 @@ std::vector<RadarReturn> simulateRadar(const SyntheticScene& scene,
   const Eigen::Vector3d origin = radar_to_world.translation();
   const double az_max = p.azimuth_fov_deg * kDeg;
   const double el_min = p.elevation_min_deg * kDeg, el_max = p.elevation_max_deg * kDeg;
+  std::set<std::array<long, 3>> cells;
 
   auto finish = [&](RadarReturn& ret, const Eigen::Vector3d& measured_dir) {
     // Radial velocity of a static point seen from the moving radar, and its ego-compensated value.
@@ -189,6 +192,11 @@ std::vector<RadarReturn> simulateRadar(const SyntheticScene& scene,
     const double probability = SyntheticScene::radarReflectivity(hit.material) *
                                (0.3 + 0.7 * incidence) * (1.0 - 0.5 * hit.t / p.max_range);
     if (detect_draw >= probability) continue;
+    // One detection per resolution cell (azimuth x elevation x range), as a radar resolves them.
+    const std::array<long, 3> cell{std::lround(az / (p.azimuth_cell_deg * kDeg)),
+                                   std::lround(el / (p.elevation_cell_deg * kDeg)),
+                                   std::lround(hit.t / p.range_cell)};
+    if (!cells.insert(cell).second) continue;
     const double range = hit.t + p.range_sigma * rng.normal();
     const double az_m = az + p.azimuth_sigma_deg * kDeg * rng.normal();
     const double el_m = el + p.elevation_sigma_deg * kDeg * rng.normal();

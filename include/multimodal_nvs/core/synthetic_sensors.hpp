@@ -70,6 +70,9 @@ struct RadarParams {
   double elevation_max_deg = 12.0;
   double min_range = 0.8;
   double max_range = 80.0;
+  double azimuth_cell_deg = 1.0;  ///< resolution cells: one detection per cell at most
+  double elevation_cell_deg = 2.0;
+  double range_cell = 0.25;   ///< m
   double range_sigma = 0.10;  ///< m
   double azimuth_sigma_deg = 0.25;
   double elevation_sigma_deg = 0.5;
@@ -90,8 +93,9 @@ struct RadarReturn {
 };
 
 /// Radar scan: beams in random directions, detected with a probability from the material,
-/// incidence and range; range/azimuth/elevation noise; radial velocities of the static world seen
-/// from the moving radar (`radar_velocity`: the radar's own velocity in its frame).
+/// incidence and range, at most one per resolution cell; range/azimuth/elevation noise; radial
+/// velocities of the static world seen from the moving radar (`radar_velocity`: the radar's own
+/// velocity in its frame).
 std::vector<RadarReturn> simulateRadar(const SyntheticScene& scene,
                                        const Eigen::Isometry3d& radar_to_world,
                                        const Eigen::Vector3d& radar_velocity,
