@@ -26,6 +26,9 @@ foreach(scenario depth_scene depth_bad_input)
   add_rostest(test/ros/${scenario}.test ARGS mode:=standalone
     DEPENDENCIES test_${scenario} ${MMNVS_ROSTEST_DEPENDENCIES})
 endforeach()
+target_link_libraries(test_depth_scene ${OpenCV_LIBS})
+add_rostest(test/ros/depth_scene.test ARGS compressed:=true
+  DEPENDENCIES test_depth_scene ${MMNVS_ROSTEST_DEPENDENCIES})
 
 add_rostest(test/ros/depth_hz.test DEPENDENCIES ${MMNVS_ROSTEST_DEPENDENCIES})
 add_rostest(test/ros/depth_hz.test ARGS mode:=standalone DEPENDENCIES ${MMNVS_ROSTEST_DEPENDENCIES})

@@ -4,8 +4,11 @@
 #include <gtest/gtest.h>
 #include <multimodal_nvs/DepthCompletionStats.h>
 #include <ros/ros.h>
+#include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/image_encodings.h>
 #include <tf2_ros/static_transform_broadcaster.h>
+
+#include <opencv2/imgcodecs.hpp>
 
 #include <cmath>
 #include <mutex>
@@ -66,6 +69,16 @@ class DepthSceneTest : public ::testing::Test {
     ros::Publisher points_pub = nh.advertise<sensor_msgs::PointCloud2>("points", 1);
     ros::Publisher image_pub = nh.advertise<sensor_msgs::Image>("image", 1);
     ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>("camera_info", 1);
+    // For the compressed_input variant: the same image as PNG (lossless, so colours stay exact).
+    ros::Publisher compressed_pub =
+        nh.advertise<sensor_msgs::CompressedImage>("image/compressed", 1);
+    sensor_msgs::CompressedImage png;
+    png.format = "bgr8; png compressed bgr8";
+    {
+      sensor_msgs::Image bgr = ss::image(ros::Time(0));
+      const cv::Mat view(bgr.height, bgr.width, CV_8UC3, bgr.data.data(), bgr.step);
+      cv::imencode(".png", view, png.data);
+    }
     // The node subscribes lazily, once it sees our output subscriptions: repeat until it answers.
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(40.0);
     while (ros::ok() && ros::WallTime::now() < deadline) {
@@ -73,6 +86,8 @@ class DepthSceneTest : public ::testing::Test {
       points_pub.publish(ss::cloud(stamp_));
       image_pub.publish(ss::image(stamp_));
       info_pub.publish(ss::cameraInfo(stamp_));
+      png.header = ss::header(stamp_, ss::kCameraFrame);
+      compressed_pub.publish(png);
       for (int i = 0; i < 20 && !out.completeFor(stamp_); ++i)
         ros::WallDuration(0.05).sleep();
       if (out.completeFor(stamp_)) return;
