@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "multimodal_nvs/core/baselines.hpp"
 #include "multimodal_nvs/core/depth_models.hpp"
 #include "multimodal_nvs/core/errors.hpp"
 #include "multimodal_nvs/core/neighbour_sets.hpp"
@@ -95,7 +96,9 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   PixelPredictions prediction;
   prediction.mean.swap(out.depth);
   prediction.variance.swap(out.variance);
-  if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
+  if (isBaseline(params.model)) {
+    predictBaseline(samples, angles, params, *pool_, prediction);  // no neighbour sets needed
+  } else if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
     stats.neighbour_sets = predictTiledLocalGp(samples, angles, params, stats.shift, *pool_,
                                                prediction);
   } else {

@@ -13,6 +13,14 @@ const char* toString(DepthModel model) {
       return "local_gp_mle";
     case DepthModel::kKernel:
       return "kernel";
+    case DepthModel::kNearest:
+      return "nearest";
+    case DepthModel::kLinear:
+      return "linear";
+    case DepthModel::kIpBasic:
+      return "ipbasic";
+    case DepthModel::kConstant:
+      return "constant";
   }
   return "unknown";
 }
@@ -20,7 +28,12 @@ const char* toString(DepthModel model) {
 DepthModel parseDepthModel(const std::string& name) {
   if (name == "local_gp_mle") return DepthModel::kLocalGpMle;
   if (name == "kernel") return DepthModel::kKernel;
-  throw InputError("unknown depth model '" + name + "' (expected local_gp_mle or kernel)");
+  if (name == "nearest") return DepthModel::kNearest;
+  if (name == "linear") return DepthModel::kLinear;
+  if (name == "ipbasic") return DepthModel::kIpBasic;
+  if (name == "constant") return DepthModel::kConstant;
+  throw InputError("unknown depth model '" + name +
+                   "' (expected local_gp_mle, kernel, nearest, linear, ipbasic or constant)");
 }
 
 DepthShift DepthShift::parse(const std::string& spec) {

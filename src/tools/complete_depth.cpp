@@ -29,7 +29,9 @@ void declareOptions(mm::cli::Args& args) {
   args.option("vod-root", 1, "View-of-Delft layout root (takes points, calib, image from there)");
   args.option("frame", 1, "VoD frame number, with or without leading zeros");
   args.option("sensor", 1, "radar|lidar", "radar");
-  args.option("model", 1, "local_gp_mle|kernel", "local_gp_mle");
+  args.option("model", 1,
+              "local_gp_mle|kernel|nearest|linear|ipbasic|constant (baselines: see baselines.hpp)",
+              "local_gp_mle");
   args.option("radius-deg", 1, "neighbourhood radius in degrees", "2");
   args.option("stride", 1, "output grid step in pixels", "1");
   args.option("amplitude", 1, "GP amplitude a (kernel variance a^2)", "25");

@@ -9,6 +9,11 @@ namespace multimodal_nvs {
 enum class DepthModel {
   kLocalGpMle,  ///< reference default: local GP, marginal-likelihood length scale per set
   kKernel,      ///< reference fast mode: Gaussian kernel regression within the radius
+  // Baselines (baselines.hpp), each with a documented variance:
+  kNearest,   ///< depth of the angularly nearest sample, no radius limit
+  kLinear,    ///< Delaunay triangulation in the angular domain, barycentric interpolation
+  kIpBasic,   ///< morphological fill of the projected sparse depth (Ku et al. 2018), for LiDAR
+  kConstant,  ///< the median depth everywhere
 };
 
 const char* toString(DepthModel model);

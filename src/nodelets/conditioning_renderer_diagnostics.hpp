@@ -1,0 +1,48 @@
+#pragma once
+// Counters of the conditioning renderer nodelet, reported through diagnostic_updater: input and
+// output rates over the last report period, render and per-frame times, keyframes, bursts, and
+// every rejected input set by reason.
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <array>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "multimodal_nvs/ros/renderer_conversions.hpp"
+
+namespace multimodal_nvs {
+
+class ConditioningRendererDiagnostics {
+ public:
+  void start(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const std::string& node_name);
+
+  // Thread-safe: called from subscriber, frame and service callbacks.
+  void countSet();
+  void countFault(ros_conversions::RendererFault fault);
+  /// One frame rendered and published: splatting time, and the whole callback (conversion, tf,
+  /// splatting, preview, publishing).
+  void countFrame(double render_ms, double frame_ms);
+  void countKeyframe(std::size_t points, double cloud_ms);
+  void countBurst(int frames, double burst_ms);
+  void setSubscribed(bool subscribed);
+
+ private:
+  void report(diagnostic_updater::DiagnosticStatusWrapper& status);
+
+  struct Counts {
+    unsigned long sets = 0, frames = 0, keyframes = 0, bursts = 0, burst_frames = 0;
+    std::array<unsigned long, ros_conversions::kRendererFaultCount> faults{};
+    double render_sum_ms = 0.0, render_max_ms = 0.0, frame_sum_ms = 0.0, burst_sum_ms = 0.0;
+  };
+
+  std::mutex mutex_;
+  Counts window_, total_;
+  std::size_t keyframe_points_ = 0;
+  double keyframe_cloud_ms_ = 0.0;
+  ros::WallTime window_start_;
+  bool subscribed_ = false;
+  std::unique_ptr<diagnostic_updater::Updater> updater_;
+  ros::WallTimer timer_;
+};
+
+}  // namespace multimodal_nvs
