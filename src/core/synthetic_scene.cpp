@@ -370,12 +370,13 @@ inline double slabEntry(const Eigen::Vector3d& mn, const Eigen::Vector3d& mx,
 
 }  // namespace
 
-bool SyntheticScene::intersect(const Ray& ray, Hit& hit, double t_min, double t_max) const {
-  return cast(ray, hit, t_min, t_max, false);
+bool SyntheticScene::intersect(const Ray& ray, Hit& hit, double t_min, double t_max,
+                               int hint) const {
+  return cast(ray, hit, t_min, t_max, false, hint);
 }
 
-bool SyntheticScene::cast(const Ray& ray, Hit& hit, double t_min, double t_max,
-                          bool any_hit) const {
+bool SyntheticScene::cast(const Ray& ray, Hit& hit, double t_min, double t_max, bool any_hit,
+                          int hint) const {
   if (t_max < 0.0) t_max = layout_.max_distance;
   const Eigen::Vector3d& o = ray.origin;
   const Eigen::Vector3d& d = ray.direction;
@@ -388,6 +389,16 @@ bool SyntheticScene::cast(const Ray& ray, Hit& hit, double t_min, double t_max,
       best = t;
       best_box = -1;
       if (any_hit) t_max = -1.0;  // blocked by the ground: no need to look further
+    }
+  }
+  if (t_max >= 0.0 && hint >= 0 && hint < static_cast<int>(boxes_.size())) {
+    int axis = -1;
+    const double t = slabEntry(boxes_[hint].min, boxes_[hint].max, o, inv, t_min, best, &axis);
+    if (t < best && axis >= 0) {
+      best = t;
+      best_box = hint;
+      best_axis = axis;
+      if (any_hit) t_max = -1.0;
     }
   }
   if (t_max >= 0.0 && !nodes_.empty() &&
@@ -448,9 +459,11 @@ bool SyntheticScene::cast(const Ray& ray, Hit& hit, double t_min, double t_max,
   return true;
 }
 
-bool SyntheticScene::occluded(const Ray& ray, double t_min, double t_max) const {
+bool SyntheticScene::occluded(const Ray& ray, double t_min, double t_max, int* blocker) const {
   Hit hit;
-  return cast(ray, hit, t_min, t_max, true);
+  if (!cast(ray, hit, t_min, t_max, true, blocker != nullptr ? *blocker : -1)) return false;
+  if (blocker != nullptr) *blocker = hit.box;
+  return true;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -626,7 +639,8 @@ Eigen::Vector3f SyntheticScene::albedo(const Hit& hit, double footprint, bool& g
   return rgb(0.5, 0.5, 0.5);
 }
 
-Eigen::Vector3f SyntheticScene::shade(const Ray& ray, const Hit& hit, double pixel_angle) const {
+Eigen::Vector3f SyntheticScene::shade(const Ray& ray, const Hit& hit, double pixel_angle,
+                                      int* shadow_hint) const {
   const Eigen::Vector3d& n = hit.normal;
   const double cos_view = std::max(0.05, std::abs(n.dot(ray.direction)));
   const double footprint = hit.t * pixel_angle / cos_view;
@@ -638,7 +652,7 @@ Eigen::Vector3f SyntheticScene::shade(const Ray& ray, const Hit& hit, double pix
   double direct = 0.0;
   if (cos_sun > 0.0) {
     const Ray shadow{hit.point + 1e-4 * n, sun_};
-    if (!occluded(shadow, 1e-6, 400.0)) direct = cos_sun;
+    if (!occluded(shadow, 1e-6, 400.0, shadow_hint)) direct = cos_sun;
   }
   const Eigen::Vector3f sun_color = rgb(1.0, 0.96, 0.88);
   const Eigen::Vector3f sky_color = toLinear(rgb(0.62, 0.72, 0.9));

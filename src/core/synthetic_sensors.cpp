@@ -92,11 +92,15 @@ CameraImage renderCamera(const SyntheticScene& scene, const CameraModel& camera,
   const Eigen::Vector3d origin = camera_to_world.translation();
   const double pixel_angle = 1.0 / k.fx;
 
-  auto radiance = [&](double u, double v, double pixel, Hit& hit, bool& found) {
+  // Neighbouring rays mostly hit the same box and are shadowed by the same caster: the hints
+  // carry both along a row (they speed up the search, the result is the same).
+  auto radiance = [&](double u, double v, double pixel, Hit& hit, bool& found, int& hint,
+                      int& shadow_hint) {
     const Eigen::Vector3d d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
     const Ray ray{origin, r * d.normalized()};
-    found = scene.intersect(ray, hit);
-    return found ? scene.shade(ray, hit, pixel) : scene.sky(ray.direction);
+    found = scene.intersect(ray, hit, 1e-6, -1.0, hint);
+    if (found) hint = hit.box;
+    return found ? scene.shade(ray, hit, pixel, &shadow_hint) : scene.sky(ray.direction);
   };
 
   // Pass 1: the centre ray of every pixel gives depth, a first colour and what was hit.
@@ -105,11 +109,12 @@ CameraImage renderCamera(const SyntheticScene& scene, const CameraModel& camera,
   pool.parallelFor(h, [&](long long row, int) {
     const int v = static_cast<int>(row);
     auto* depth = out.depth.ptr<float>(v);
+    int hint = -1, shadow_hint = -1;
     for (int u = 0; u < w; ++u) {
       Hit hit;
       bool found = false;
       const std::size_t i = static_cast<std::size_t>(v) * w + u;
-      colour[i] = radiance(u, v, pixel_angle, hit, found);
+      colour[i] = radiance(u, v, pixel_angle, hit, found, hint, shadow_hint);
       const double norm = Eigen::Vector3d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0).norm();
       depth[u] = found ? static_cast<float>(hit.t / norm) : 0.0f;
       id[i] = found ? hit.box : -2;
@@ -140,17 +145,19 @@ CameraImage renderCamera(const SyntheticScene& scene, const CameraModel& camera,
   pool.parallelFor(h, [&](long long row, int) {
     const int v = static_cast<int>(row);
     auto* bgr = out.bgr.ptr<cv::Vec3b>(v);
+    int shadow_hint = -1;
     for (int u = 0; u < w; ++u) {
       const std::size_t i = static_cast<std::size_t>(v) * w + u;
       Eigen::Vector3f c = colour[i];
       if (refine[i]) {
         c.setZero();
+        int hint = id[i];
         for (int j = 0; j < s; ++j) {
           for (int q = 0; q < s; ++q) {
             Hit hit;
             bool found = false;
             c += radiance(u + (q + 0.5) / s - 0.5, v + (j + 0.5) / s - 0.5, pixel_angle / s, hit,
-                          found);
+                          found, hint, shadow_hint);
           }
         }
         c /= static_cast<float>(s * s);
@@ -247,6 +254,7 @@ std::vector<LidarReturn> simulateLidar(const SyntheticScene& scene,
     const double az = -M_PI + (col + 0.5) * 2.0 * M_PI / columns;
     auto& out = per_column[col];
     out.reserve(rings);
+    int hint = -1;
     for (int ring = 0; ring < rings; ++ring) {
       const double el = (p.elevation_min_deg + (p.elevation_max_deg - p.elevation_min_deg) * ring /
                                                    std::max(1, rings - 1)) *
@@ -257,8 +265,9 @@ std::vector<LidarReturn> simulateLidar(const SyntheticScene& scene,
       const Eigen::Vector3d local = direction(az, el);
       Ray ray{origin, r * local};
       Hit hit;
-      if (!scene.intersect(ray, hit, 1e-6, p.max_range) || hit.t < p.min_range) continue;
-      if (drop < p.dropout) continue;
+      if (!scene.intersect(ray, hit, 1e-6, p.max_range, hint)) continue;
+      hint = hit.box;
+      if (hit.t < p.min_range || drop < p.dropout) continue;
       const double incidence = std::abs(hit.normal.dot(ray.direction));
       const double range = hit.t + p.range_sigma * noise;
       LidarReturn ret;

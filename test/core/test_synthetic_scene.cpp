@@ -107,19 +107,31 @@ SurfaceResidual surfaceResidual(const Eigen::Vector3d& p_sensor, const io::Kitti
   r.in_image = true;
   r.z = p.z();
   const int u0 = static_cast<int>(u), v0 = static_cast<int>(v);
-  Eigen::Matrix<double, 16, 3> a;
-  Eigen::Matrix<double, 16, 1> b;
-  int row = 0;
+  // Least-squares plane 1/z = c0 du + c1 dv + c2 through the 16 pixel centres (normal equations).
+  double inv_z[16];
+  Eigen::Matrix3d normal = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+  int n = 0;
   for (int dv = -1; dv <= 2; ++dv) {
     for (int du = -1; du <= 2; ++du) {
       const float z = depth.at(v0 + dv, u0 + du);
       if (!(z > 0.0f)) return r;  // sky in the patch
-      a.row(row) << du, dv, 1.0;
-      b(row++) = 1.0 / z;
+      inv_z[n++] = 1.0 / z;
+      const Eigen::Vector3d row(du, dv, 1.0);
+      normal += row * row.transpose();
+      rhs += row * inv_z[n - 1];
     }
   }
-  const Eigen::Vector3d plane = a.colPivHouseholderQr().solve(b);
-  if ((a * plane - b).cwiseAbs().maxCoeff() > 1e-5 * b.mean()) return r;
+  const Eigen::Vector3d plane = normal.ldlt().solve(rhs);
+  double worst = 0.0, mean = 0.0;
+  n = 0;
+  for (int dv = -1; dv <= 2; ++dv) {
+    for (int du = -1; du <= 2; ++du, ++n) {
+      worst = std::max(worst, std::abs(plane.dot(Eigen::Vector3d(du, dv, 1.0)) - inv_z[n]));
+      mean += inv_z[n] / 16.0;
+    }
+  }
+  if (worst > 1e-5 * mean) return r;
   r.planar = true;
   r.residual = p.z() - 1.0 / plane.dot(Eigen::Vector3d(u - u0, v - v0, 1.0));
   return r;
