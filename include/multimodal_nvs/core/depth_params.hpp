@@ -14,6 +14,11 @@ enum class DepthModel {
   kLinear,    ///< Delaunay triangulation in the angular domain, barycentric interpolation
   kIpBasic,   ///< morphological fill of the projected sparse depth (Ku et al. 2018), for LiDAR
   kConstant,  ///< the median depth everywhere
+  // Baselines (baselines.hpp), each with a documented variance:
+  kNearest,   ///< depth of the angularly nearest sample, no radius limit
+  kLinear,    ///< Delaunay triangulation in the angular domain, barycentric interpolation
+  kIpBasic,   ///< morphological fill of the projected sparse depth (Ku et al. 2018), for LiDAR
+  kConstant,  ///< the median depth everywhere
 };
 
 const char* toString(DepthModel model);
