@@ -1,0 +1,66 @@
+#pragma once
+// Depth accuracy against ground truth (issue 6): the metrics of the paper's depth table over the
+// ground-truth pixels of a stride grid, and the ground truth itself — a LiDAR scan projected into
+// the image (nearest return per pixel) or an exact dense depth image sampled on the grid.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "multimodal_nvs/core/angular_projection.hpp"
+#include "multimodal_nvs/core/camera.hpp"
+
+namespace multimodal_nvs {
+
+/// Running sums behind the depth metrics, so frames, shards and machines can be merged exactly.
+struct DepthErrorSums {
+  long long gt_pixels = 0;    ///< ground-truth pixels considered (with or without a prediction)
+  long long count = 0;        ///< of those, the ones with a prediction: the evaluated pixels
+  double abs_error = 0.0;     ///< sum |p - g|
+  double sq_error = 0.0;      ///< sum (p - g)^2
+  double sq_log_error = 0.0;  ///< sum (ln p - ln g)^2
+  double abs_rel = 0.0;       ///< sum |p - g| / g
+  long long delta1 = 0;       ///< number with max(p/g, g/p) < 1.25
+
+  void add(double prediction, double truth);
+  void merge(const DepthErrorSums& other);
+};
+
+/// MAE and RMSE in metres, RMSE_log (natural log), AbsRel and delta<1.25 (fraction) over the
+/// evaluated pixels, and coverage = evaluated / ground-truth pixels. NaN where count is 0.
+struct DepthMetrics {
+  long long gt_pixels = 0;
+  long long count = 0;
+  double mae, rmse, rmse_log, abs_rel, delta1, coverage;
+
+  static DepthMetrics from(const DepthErrorSums& sums);
+};
+
+struct DepthEvaluationOptions {
+  /// Ground truth deeper than this is ignored (range cap); <= 0: no cap. Predictions are clipped to
+  /// the cap as well (the usual protocol of Eigen et al. / Monodepth).
+  double max_depth = 0.0;
+  /// Predictions are clipped to at least this before the log and the ratios.
+  double min_prediction = 1e-3;
+};
+
+/// Sums over the pixels with ground truth (finite, > 0, within the cap). With a `mask`, a pixel
+/// counts as predicted when mask != 0 and the prediction is finite (a depth <= 0 is then an error,
+/// clipped to min_prediction); without one, when the prediction is finite and > 0 (the DepthMap
+/// convention: -1 = not kept). All arrays hold `n` values of the same grid.
+DepthErrorSums evaluateDepth(const float* prediction, const std::uint8_t* mask, const float* truth,
+                             std::size_t n, const DepthEvaluationOptions& options);
+
+/// Ground truth from a range scan in the camera frame: camera z of the nearest return per grid
+/// pixel (pixel = round(u / stride), round(v / stride) of its projection), 0 where no return lands.
+/// Points with z <= 0 or non-finite coordinates are ignored.
+std::vector<float> projectDepthGroundTruth(const std::vector<Eigen::Vector3d>& points_camera,
+                                           const PinholeIntrinsics& intrinsics,
+                                           const StrideGrid& grid);
+
+/// A dense full-resolution depth image (row-major `height` x `width`, <= 0 or non-finite = none)
+/// sampled at the grid pixels (r * stride, c * stride). Throws InputError when the image size is
+/// not the grid's image size.
+std::vector<float> sampleDenseGroundTruth(const std::vector<float>& depth, int height, int width,
+                                          const StrideGrid& grid);
+
+}  // namespace multimodal_nvs

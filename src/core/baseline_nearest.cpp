@@ -1,0 +1,137 @@
+// `nearest` baseline: the depth of the angularly nearest sample, found with a uniform bin grid in
+// (azimuth, elevation) and an expanding ring search that stops once no unvisited bin can hold a
+// closer sample — exact, with no radius limit.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "multimodal_nvs/core/baselines.hpp"
+
+namespace multimodal_nvs {
+namespace {
+
+constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
+
+/// Samples bucketed into square bins of side `bin` (degrees) covering a bounding box.
+class AngularBins {
+ public:
+  AngularBins(const std::vector<AngularSample>& samples, float az0, float az1, float el0, float el1)
+      : samples_(samples), az0_(az0), el0_(el0) {
+    const double width = std::max(1e-3, double(az1) - az0);
+    const double height = std::max(1e-3, double(el1) - el0);
+    // About one sample per bin, but never more than ~4 bins per sample.
+    const double n = static_cast<double>(std::max<std::size_t>(1, samples.size()));
+    bin_ = static_cast<float>(std::max(std::sqrt(width * height / n), 1e-4));
+    nx_ = static_cast<int>(std::ceil(width / bin_)) + 1;
+    ny_ = static_cast<int>(std::ceil(height / bin_)) + 1;
+    while (double(nx_) * ny_ > 4.0 * n + 64.0) {
+      bin_ *= 1.5f;
+      nx_ = static_cast<int>(std::ceil(width / bin_)) + 1;
+      ny_ = static_cast<int>(std::ceil(height / bin_)) + 1;
+    }
+    start_.assign(std::size_t(nx_) * ny_ + 1, 0);
+    for (const AngularSample& s : samples)
+      ++start_[binOf(s.azimuth_deg, s.elevation_deg) + 1];
+    for (std::size_t b = 1; b < start_.size(); ++b)
+      start_[b] += start_[b - 1];
+    members_.resize(samples.size());
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      members_[fill[binOf(samples[i].azimuth_deg, samples[i].elevation_deg)]++] = int(i);
+    }
+  }
+
+  /// Index of the nearest sample to (az, el) and its squared distance; ties: lower index.
+  int nearest(float az, float el, float* best_d2) const {
+    const int bx = clampX(az), by = clampY(el);
+    int best = -1;
+    float best_d = std::numeric_limits<float>::infinity();
+    const int max_ring = std::max(nx_, ny_);
+    for (int ring = 0; ring <= max_ring; ++ring) {
+      const int x0 = bx - ring, x1 = bx + ring, y0 = by - ring, y1 = by + ring;
+      for (int y = std::max(0, y0); y <= std::min(ny_ - 1, y1); ++y) {
+        const bool edge_row = y == y0 || y == y1;
+        const int step = edge_row ? 1 : std::max(1, x1 - x0);
+        for (int x = x0; x <= x1; x += step) {
+          if (x < 0 || x >= nx_) continue;
+          const std::size_t b = std::size_t(y) * nx_ + x;
+          for (int m = start_[b]; m < start_[b + 1]; ++m) {
+            const int i = members_[m];
+            const float da = samples_[i].azimuth_deg - az, de = samples_[i].elevation_deg - el;
+            const float d2 = da * da + de * de;
+            if (d2 < best_d || (d2 == best_d && i < best)) {
+              best_d = d2;
+              best = i;
+            }
+          }
+        }
+      }
+      // Any sample in ring + 1 or beyond is at least ring * bin away along one axis.
+      if (best >= 0) {
+        const float reach = ring * bin_;
+        if (best_d <= reach * reach) break;
+      }
+    }
+    *best_d2 = best_d;
+    return best;
+  }
+
+ private:
+  int clampX(float az) const {
+    return std::min(nx_ - 1, std::max(0, static_cast<int>(std::floor((az - az0_) / bin_))));
+  }
+  int clampY(float el) const {
+    return std::min(ny_ - 1, std::max(0, static_cast<int>(std::floor((el - el0_) / bin_))));
+  }
+  std::size_t binOf(float az, float el) const { return std::size_t(clampY(el)) * nx_ + clampX(az); }
+
+  const std::vector<AngularSample>& samples_;
+  float az0_, el0_, bin_ = 1.0f;
+  int nx_ = 1, ny_ = 1;
+  std::vector<int> start_, members_;
+};
+
+}  // namespace
+
+void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAngleGrid& angles,
+                    const DepthCompletionParams& params, ThreadPool& pool, PixelPredictions& out) {
+  const StrideGrid& grid = angles.grid();
+  const int rows = grid.rows(), cols = grid.cols();
+  const std::size_t n = static_cast<std::size_t>(grid.size());
+  out.mean.assign(n, std::numeric_limits<float>::quiet_NaN());
+  out.variance.assign(n, kNoPrediction);
+  const std::vector<AngularSample> samples = usableSamples(all_samples);
+  if (samples.empty()) return;
+
+  // Bins over the union of the samples' and the pixels' angular bounding boxes: every pixel lies
+  // inside the binned area, which the ring-search stopping rule relies on.
+  float az0 = std::numeric_limits<float>::infinity(), az1 = -az0, el0 = az0, el1 = -az0;
+  for (const AngularSample& s : samples) {
+    az0 = std::min(az0, s.azimuth_deg);
+    az1 = std::max(az1, s.azimuth_deg);
+    el0 = std::min(el0, s.elevation_deg);
+    el1 = std::max(el1, s.elevation_deg);
+  }
+  for (int r = 0; r < rows; ++r) {
+    const float* az = angles.azimuthRow(r);
+    az0 = std::min({az0, az[0], az[cols - 1]});
+    az1 = std::max({az1, az[0], az[cols - 1]});
+    el0 = std::min(el0, angles.minElevation(r));
+    el1 = std::max(el1, angles.maxElevation(r));
+  }
+  const AngularBins bins(samples, az0, az1, el0, el1);
+
+  pool.parallelFor(rows, [&](long long r, int) {
+    const float* az = angles.azimuthRow(static_cast<int>(r));
+    const float* el = angles.elevationRow(static_cast<int>(r));
+    const std::size_t row = static_cast<std::size_t>(r) * cols;
+    for (int c = 0; c < cols; ++c) {
+      float d2 = 0.0f;
+      const int i = bins.nearest(az[c], el[c], &d2);
+      out.mean[row + c] = samples[i].depth;
+      out.variance[row + c] = static_cast<float>(distanceVariance(std::sqrt(double(d2)), params));
+    }
+  });
+}
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,105 @@
+#include "multimodal_nvs/core/depth_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "multimodal_nvs/core/errors.hpp"
+
+namespace multimodal_nvs {
+
+void DepthErrorSums::add(double p, double g) {
+  const double diff = p - g;
+  const double log_diff = std::log(p) - std::log(g);
+  ++count;
+  abs_error += std::abs(diff);
+  sq_error += diff * diff;
+  sq_log_error += log_diff * log_diff;
+  abs_rel += std::abs(diff) / g;
+  delta1 += std::max(p / g, g / p) < 1.25;
+}
+
+void DepthErrorSums::merge(const DepthErrorSums& o) {
+  gt_pixels += o.gt_pixels;
+  count += o.count;
+  abs_error += o.abs_error;
+  sq_error += o.sq_error;
+  sq_log_error += o.sq_log_error;
+  abs_rel += o.abs_rel;
+  delta1 += o.delta1;
+}
+
+DepthMetrics DepthMetrics::from(const DepthErrorSums& s) {
+  DepthMetrics m;
+  m.gt_pixels = s.gt_pixels;
+  m.count = s.count;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double n = static_cast<double>(s.count);
+  m.mae = s.count > 0 ? s.abs_error / n : nan;
+  m.rmse = s.count > 0 ? std::sqrt(s.sq_error / n) : nan;
+  m.rmse_log = s.count > 0 ? std::sqrt(s.sq_log_error / n) : nan;
+  m.abs_rel = s.count > 0 ? s.abs_rel / n : nan;
+  m.delta1 = s.count > 0 ? s.delta1 / n : nan;
+  m.coverage = s.gt_pixels > 0 ? n / static_cast<double>(s.gt_pixels) : nan;
+  return m;
+}
+
+DepthErrorSums evaluateDepth(const float* prediction, const std::uint8_t* mask, const float* truth,
+                             std::size_t n, const DepthEvaluationOptions& options) {
+  DepthErrorSums sums;
+  const bool capped = options.max_depth > 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float g = truth[i];
+    if (!(std::isfinite(g) && g > 0.0f)) continue;
+    if (capped && g > options.max_depth) continue;
+    ++sums.gt_pixels;
+    const float p = prediction[i];
+    const bool predicted =
+        mask != nullptr ? mask[i] != 0 && std::isfinite(p) : std::isfinite(p) && p > 0.0f;
+    if (!predicted) continue;
+    double clipped = std::max<double>(p, options.min_prediction);
+    if (capped) clipped = std::min(clipped, options.max_depth);
+    sums.add(clipped, g);
+  }
+  return sums;
+}
+
+std::vector<float> projectDepthGroundTruth(const std::vector<Eigen::Vector3d>& points,
+                                           const PinholeIntrinsics& k, const StrideGrid& grid) {
+  const int rows = grid.rows(), cols = grid.cols();
+  std::vector<float> gt(static_cast<std::size_t>(grid.size()), 0.0f);
+  for (const Eigen::Vector3d& p : points) {
+    if (!p.allFinite() || !(p.z() > 0.0)) continue;
+    const double u = k.fx * p.x() / p.z() + k.cx;
+    const double v = k.fy * p.y() / p.z() + k.cy;
+    const double c = std::round(u / grid.stride), r = std::round(v / grid.stride);
+    if (!(c >= 0 && r >= 0 && c < cols && r < rows)) continue;
+    float& pixel = gt[static_cast<std::size_t>(r) * cols + static_cast<std::size_t>(c)];
+    const float z = static_cast<float>(p.z());
+    if (pixel == 0.0f || z < pixel) pixel = z;
+  }
+  return gt;
+}
+
+std::vector<float> sampleDenseGroundTruth(const std::vector<float>& depth, int height, int width,
+                                          const StrideGrid& grid) {
+  if (height != grid.image.height || width != grid.image.width ||
+      depth.size() != static_cast<std::size_t>(height) * width) {
+    throw InputError("dense ground truth is " + std::to_string(height) + "x" +
+                     std::to_string(width) + " but the image is " +
+                     std::to_string(grid.image.height) + "x" + std::to_string(grid.image.width));
+  }
+  const int rows = grid.rows(), cols = grid.cols();
+  std::vector<float> gt(static_cast<std::size_t>(grid.size()), 0.0f);
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      const float z = depth[static_cast<std::size_t>(r) * grid.stride * width +
+                            static_cast<std::size_t>(c) * grid.stride];
+      gt[static_cast<std::size_t>(r) * cols + c] = std::isfinite(z) && z > 0.0f ? z : 0.0f;
+    }
+  }
+  return gt;
+}
+
+}  // namespace multimodal_nvs
