@@ -7,6 +7,7 @@
 #include "multimodal_nvs/core/baselines.hpp"
 #include "multimodal_nvs/core/depth_models.hpp"
 #include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/ground_prior.hpp"
 #include "multimodal_nvs/core/neighbour_sets.hpp"
 #include "multimodal_nvs/core/retention.hpp"
 
@@ -107,6 +108,13 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
     stats.neighbour_sets = sets.setCount();
     if (params.model == DepthModel::kLocalGpMle) {
       predictLocalGp(samples, angles, sets, params, stats.shift, *pool_, prediction);
+    } else if (params.model == DepthModel::kGroundGp) {
+      GroundPlane plane;
+      plane.up = Eigen::Vector3d(params.ground.up_x, params.ground.up_y, params.ground.up_z)
+                     .normalized();
+      plane.height = params.ground.camera_height;
+      const double median = computeShift(DepthShift{}, samples);
+      predictGroundGp(samples, angles, sets, params, plane, median, *pool_, prediction);
     } else {
       predictKernel(samples, angles, sets, params, stats.shift, *pool_, prediction);
     }

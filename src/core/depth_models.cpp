@@ -32,9 +32,18 @@ std::vector<double> shiftedTargets(const std::vector<AngularSample>& samples, do
 void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                     const NeighbourSets& sets, const DepthCompletionParams& params, double shift,
                     ThreadPool& pool, PixelPredictions& out) {
+  predictLocalGp(samples, shiftedTargets(samples, shift), angles, sets, params, PriorMean{shift},
+                 pool, out);
+}
+
+void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
+                    const PixelAngleGrid& angles, const NeighbourSets& sets,
+                    const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
+                    PixelPredictions& out) {
   const LocalGpParams& gp = params.gp;
-  resizePredictions(angles, out, static_cast<float>(shift), static_cast<float>(gp.priorVariance()));
-  const std::vector<double> targets = shiftedTargets(samples, shift);
+  resizePredictions(angles, out, static_cast<float>(prior.constant),
+                    static_cast<float>(gp.priorVariance()));
+  if (prior.per_pixel != nullptr) out.mean = *prior.per_pixel;
 
   // Storage for every set's posterior, laid out by prefix sums so sets can be solved in parallel.
   const int set_count = sets.setCount();
@@ -165,8 +174,13 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
                         member_az.data() + member_offset[seg.set_id],
                         member_el.data() + member_offset[seg.set_id], sets.setSize(seg.set_id),
                         length_scales[seg.set_id], gp, az + seg.col_begin, el + seg.col_begin,
-                        seg.col_end - seg.col_begin, shift, out.mean.data() + pixel,
+                        seg.col_end - seg.col_begin, prior.constant, out.mean.data() + pixel,
                         out.variance.data() + pixel);
+      if (prior.per_pixel != nullptr) {
+        for (std::size_t p = pixel; p < pixel + (seg.col_end - seg.col_begin); ++p) {
+          out.mean[p] += (*prior.per_pixel)[p];
+        }
+      }
     }
   }, 4);
 }

@@ -13,6 +13,8 @@ const char* toString(DepthModel model) {
       return "local_gp_mle";
     case DepthModel::kKernel:
       return "kernel";
+    case DepthModel::kGroundGp:
+      return "ground_gp";
     case DepthModel::kNearest:
       return "nearest";
     case DepthModel::kLinear:
@@ -28,12 +30,14 @@ const char* toString(DepthModel model) {
 DepthModel parseDepthModel(const std::string& name) {
   if (name == "local_gp_mle") return DepthModel::kLocalGpMle;
   if (name == "kernel") return DepthModel::kKernel;
+  if (name == "ground_gp") return DepthModel::kGroundGp;
   if (name == "nearest") return DepthModel::kNearest;
   if (name == "linear") return DepthModel::kLinear;
   if (name == "ipbasic") return DepthModel::kIpBasic;
   if (name == "constant") return DepthModel::kConstant;
   throw InputError("unknown depth model '" + name +
-                   "' (expected local_gp_mle, kernel, nearest, linear, ipbasic or constant)");
+                   "' (expected local_gp_mle, kernel, ground_gp, nearest, linear, ipbasic or "
+                   "constant)");
 }
 
 DepthShift DepthShift::parse(const std::string& spec) {
@@ -79,6 +83,21 @@ void DepthCompletionParams::validate() const {
   if (!(retain_percent >= 0.0 && retain_percent <= 100.0)) fail("retain_percent must be in [0, 100]");
   if (std::isnan(var_threshold)) fail("var_threshold must not be NaN");
   if (max_neighbors < 0) fail("max_neighbors must be >= 0");
+  if (model == DepthModel::kGroundGp) {
+    if (ground.residual_amplitude > 0.0) gp.validate();
+    if (!(ground.camera_height > 0.0)) fail("ground camera_height must be > 0");
+    if (!(std::abs(ground.up_x) + std::abs(ground.up_y) + std::abs(ground.up_z) > 0.0)) {
+      fail("ground up direction must not be zero");
+    }
+    if (ground.surface_k < 1 || ground.surface_rank < 1 || ground.surface_rank > ground.surface_k) {
+      fail("ground surface_k >= 1 and 1 <= surface_rank <= surface_k");
+    }
+    if (ground.surface_step_px < 1) fail("ground surface_step_px must be >= 1");
+    if (!(ground.residual_amplitude >= 0.0) || !(ground.relative_sigma >= 0.0) ||
+        !(ground.relative_sigma_per_deg >= 0.0) || !(ground.far_depth >= 0.0)) {
+      fail("ground residual_amplitude, relative sigmas and far_depth must be >= 0");
+    }
+  }
   if (approx_tile < 1) fail("approx_tile must be >= 1");
 }
 

@@ -7,63 +7,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "multimodal_nvs/core/angular_bins.hpp"
 #include "multimodal_nvs/core/depth_models.hpp"
 #include "multimodal_nvs/core/local_gp.hpp"
 
 namespace multimodal_nvs {
 namespace {
-
-/// Uniform bins over the samples' angular bounding box, for radius queries around tile centres.
-class AngularBins {
- public:
-  AngularBins(const std::vector<AngularSample>& samples, double bin_deg) : bin_(bin_deg) {
-    if (samples.empty()) return;
-    min_az_ = max_az_ = samples[0].azimuth_deg;
-    min_el_ = max_el_ = samples[0].elevation_deg;
-    for (const auto& s : samples) {
-      min_az_ = std::min<double>(min_az_, s.azimuth_deg);
-      max_az_ = std::max<double>(max_az_, s.azimuth_deg);
-      min_el_ = std::min<double>(min_el_, s.elevation_deg);
-      max_el_ = std::max<double>(max_el_, s.elevation_deg);
-    }
-    nx_ = static_cast<int>((max_az_ - min_az_) / bin_) + 1;
-    ny_ = static_cast<int>((max_el_ - min_el_) / bin_) + 1;
-    start_.assign(std::size_t(nx_) * ny_ + 1, 0);
-    for (const auto& s : samples) ++start_[binOf(s) + 1];
-    for (std::size_t b = 1; b < start_.size(); ++b) start_[b] += start_[b - 1];
-    order_.resize(samples.size());
-    std::vector<int> fill(start_.begin(), start_.end() - 1);
-    for (std::size_t i = 0; i < samples.size(); ++i) order_[fill[binOf(samples[i])]++] = int(i);
-  }
-
-  template <typename Visit>
-  void query(double az, double el, double reach, Visit&& visit) const {
-    if (order_.empty()) return;
-    const int x0 = std::max(0, static_cast<int>(std::floor((az - reach - min_az_) / bin_)));
-    const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((az + reach - min_az_) / bin_)));
-    const int y0 = std::max(0, static_cast<int>(std::floor((el - reach - min_el_) / bin_)));
-    const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((el + reach - min_el_) / bin_)));
-    for (int y = y0; y <= y1; ++y) {
-      for (int x = x0; x <= x1; ++x) {
-        const std::size_t b = std::size_t(y) * nx_ + x;
-        for (int k = start_[b]; k < start_[b + 1]; ++k) visit(order_[k]);
-      }
-    }
-  }
-
- private:
-  std::size_t binOf(const AngularSample& s) const {
-    const int x = std::min(nx_ - 1, static_cast<int>((s.azimuth_deg - min_az_) / bin_));
-    const int y = std::min(ny_ - 1, static_cast<int>((s.elevation_deg - min_el_) / bin_));
-    return std::size_t(y) * nx_ + x;
-  }
-
-  double bin_;
-  double min_az_ = 0, max_az_ = 0, min_el_ = 0, max_el_ = 0;
-  int nx_ = 0, ny_ = 0;
-  std::vector<int> start_;
-  std::vector<int> order_;
-};
 
 // A length scale is searched once per block of kSearchBlock x kSearchBlock tiles: the search is
 // ~22 Cholesky factorisations while a tile needs only one, and the optimum varies slowly.

@@ -10,6 +10,8 @@
 #include "common/cli.hpp"
 #include "multimodal_nvs/core/depth_completion.hpp"
 #include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/ground_prior.hpp"
+#include "multimodal_nvs/core/io/vod_pose.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
@@ -47,6 +49,17 @@ void declareOptions(mm::cli::Args& args) {
   args.option("threads", 1, "worker threads (0: all cores)", "0");
   args.option("max-neighbors", 1, "0: exact; K>0: tile approximation with at most K samples", "0");
   args.option("approx-tile", 1, "tile side (grid pixels) of the approximation", "16");
+  args.option("ground-pose", 1, "ground_gp: VoD pose file giving the camera's height and tilt "
+              "(default with --vod-root: the frame's pose)");
+  args.option("pose-key", 1, "key in the pose file", "odomToCamera");
+  args.option("camera-height", 1, "ground_gp: camera height above the ground without a pose", "1.3");
+  args.option("far-depth", 1, "ground_gp: prior depth above the horizon (0: median depth)", "0");
+  args.option("residual-amplitude", 1, "ground_gp: GP amplitude of the residual (0: no GP)", "1");
+  args.option("surface-k", 1, "ground_gp: nearest samples per pixel for the surface prior", "8");
+  args.option("surface-rank", 1, "ground_gp: which smallest of their depths (1 = minimum)", "2");
+  args.option("surface-step-px", 1, "ground_gp: lattice step of the surface prior (pixels)", "16");
+  args.option("relative-sigma", 1, "ground_gp: prior std / depth at a sample", "0.25");
+  args.option("relative-sigma-per-deg", 1, "ground_gp: growth of prior std / depth per degree", "0.10");
   args.option("output", 1, "write PREFIX_depth.npy, PREFIX_variance.npy, PREFIX_valid.npy");
   args.flag("png", "also write PREFIX_depth.png and PREFIX_variance.png with scale bars");
   args.option("repeat", 1, "repeat the computation N times and report the median", "1");
@@ -69,6 +82,15 @@ mm::DepthCompletionParams paramsFrom(const mm::cli::Args& args) {
   p.threads = args.integer("threads", 0);
   p.max_neighbors = args.integer("max-neighbors", 0);
   p.approx_tile = args.integer("approx-tile", p.approx_tile);
+  p.ground.camera_height = args.number("camera-height", p.ground.camera_height);
+  p.ground.far_depth = args.number("far-depth", p.ground.far_depth);
+  p.ground.residual_amplitude = args.number("residual-amplitude", p.ground.residual_amplitude);
+  p.ground.surface_k = args.integer("surface-k", p.ground.surface_k);
+  p.ground.surface_rank = args.integer("surface-rank", p.ground.surface_rank);
+  p.ground.surface_step_px = args.integer("surface-step-px", p.ground.surface_step_px);
+  p.ground.relative_sigma = args.number("relative-sigma", p.ground.relative_sigma);
+  p.ground.relative_sigma_per_deg =
+      args.number("relative-sigma-per-deg", p.ground.relative_sigma_per_deg);
   p.validate();
   return p;
 }
@@ -129,7 +151,20 @@ int run(int argc, char** argv) {
     throw mm::cli::UsageError("--image-size must be positive");
   }
 
-  const mm::DepthCompletionParams params = paramsFrom(args);
+  mm::DepthCompletionParams params = paramsFrom(args);
+  std::string pose_path = args.str("ground-pose");
+  if (pose_path.empty() && args.has("vod-root")) {
+    const mm::io::VodFrame frame{args.str("vod-root"), mm::io::parseFrameNumber(args.str("frame"))};
+    if (mm::io::fileExists(frame.pose())) pose_path = frame.pose();
+  }
+  if (params.model == mm::DepthModel::kGroundGp && !pose_path.empty()) {
+    const auto plane = mm::GroundPlane::fromCameraToWorld(
+        mm::io::readVodPose(pose_path, args.str("pose-key", "odomToCamera")));
+    params.ground.up_x = plane.up.x();
+    params.ground.up_y = plane.up.y();
+    params.ground.up_z = plane.up.z();
+    params.ground.camera_height = plane.height;
+  }
   const mm::io::KittiCalib calib = mm::io::readKittiCalib(calib_path);
   const mm::PinholeIntrinsics intrinsics = calib.intrinsics();
   const mm::SensorToCamera extrinsic = calib.sensorToCamera();

@@ -14,16 +14,36 @@ struct PixelPredictions {
   std::vector<float> variance;
 };
 
+/// The GP's prior mean: a constant (the reference's shift) or one value per grid pixel.
+struct PriorMean {
+  double constant = 0.0;
+  const std::vector<float>* per_pixel = nullptr;  ///< if set, used instead of the constant
+};
+
 /// Exact local GP with marginal-likelihood length scale (reference `local_gp_mle`). Pixels without
 /// a neighbour, or whose final Cholesky fails, get mean = shift and variance = a^2.
 void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                     const NeighbourSets& sets, const DepthCompletionParams& params, double shift,
                     ThreadPool& pool, PixelPredictions& out);
 
+/// The same GP on explicit targets (sample depth minus the prior at the sample) around a prior mean:
+/// mean = prior + k*^T K^-1 y. With a constant prior c and targets z - c it is the model above.
+void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
+                    const PixelAngleGrid& angles, const NeighbourSets& sets,
+                    const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
+                    PixelPredictions& out);
+
 /// Gaussian kernel regression within the radius (reference `kernel`); no neighbour: no prediction.
 void predictKernel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                    const NeighbourSets& sets, const DepthCompletionParams& params, double shift,
                    ThreadPool& pool, PixelPredictions& out);
+
+struct GroundPlane;
+/// `ground_gp`: local GP on the residual around the ground-plane prior (ground_gp_model.cpp).
+void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                     const NeighbourSets& sets, const DepthCompletionParams& params,
+                     const GroundPlane& plane, double median_depth, ThreadPool& pool,
+                     PixelPredictions& out);
 
 /// The documented approximation for dense input (max_neighbors > 0): one neighbour set of at most
 /// max_neighbors samples and one length scale per tile. Returns the number of tiles solved.

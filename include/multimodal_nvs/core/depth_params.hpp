@@ -9,11 +9,7 @@ namespace multimodal_nvs {
 enum class DepthModel {
   kLocalGpMle,  ///< reference default: local GP, marginal-likelihood length scale per set
   kKernel,      ///< reference fast mode: Gaussian kernel regression within the radius
-  // Baselines (baselines.hpp), each with a documented variance:
-  kNearest,   ///< depth of the angularly nearest sample, no radius limit
-  kLinear,    ///< Delaunay triangulation in the angular domain, barycentric interpolation
-  kIpBasic,   ///< morphological fill of the projected sparse depth (Ku et al. 2018), for LiDAR
-  kConstant,  ///< the median depth everywhere
+  kGroundGp,    ///< beyond the paper: local GP on the residual around a ground-plane prior
   // Baselines (baselines.hpp), each with a documented variance:
   kNearest,   ///< depth of the angularly nearest sample, no radius limit
   kLinear,    ///< Delaunay triangulation in the angular domain, barycentric interpolation
@@ -37,12 +33,27 @@ struct DepthShift {
   std::string toString() const;
 };
 
+/// The road-aware prior of the `ground_gp` model: the ground plane below the horizon, a far depth
+/// above it. Without a pose the camera is taken as level at `camera_height`.
+struct GroundPriorParams {
+  double camera_height = 1.3;  ///< metres
+  double up_x = 0.0, up_y = -1.0, up_z = 0.0;  ///< world up in the camera frame
+  double far_depth = 0.0;           ///< prior where neither ground nor samples say more; 0: median
+  int surface_k = 8;                ///< nearest-surface prior: samples considered per pixel
+  int surface_rank = 2;             ///< ... and which smallest depth among them (1 = minimum)
+  int surface_step_px = 16;         ///< lattice step (image pixels) of the nearest-surface prior
+  double residual_amplitude = 1.0;  ///< GP amplitude of the residual (metres); 0: no GP
+  double relative_sigma = 0.25;     ///< prior std as a fraction of its depth, at a sample ...
+  double relative_sigma_per_deg = 0.10;  ///< ... growing with the angular distance to it
+};
+
 /// Every parameter of depth completion, with the reference's defaults. The CLI flags, the YAML
 /// files and dynamic_reconfigure all map onto this one struct.
 struct DepthCompletionParams {
   DepthModel model = DepthModel::kLocalGpMle;
   double radius_deg = 2.0;
   LocalGpParams gp;
+  GroundPriorParams ground;
   double kernel_length_scale_deg = 0.75;
   DepthShift shift;
   /// Keep this percentage of *all* grid pixels, those with the lowest variance (ties: row-major

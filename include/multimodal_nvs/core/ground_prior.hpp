@@ -1,0 +1,49 @@
+#pragma once
+#include <Eigen/Core>
+#include <vector>
+
+#include "multimodal_nvs/core/angular_projection.hpp"
+#include "multimodal_nvs/core/thread_pool.hpp"
+
+namespace multimodal_nvs {
+
+/// The ground as seen from the camera: the plane {X : up . X = -height} in the camera optical
+/// frame, with `up` the unit world-up direction expressed in camera coordinates.
+struct GroundPlane {
+  Eigen::Vector3d up{0.0, -1.0, 0.0};  ///< level camera: world up is camera -y
+  double height = 1.3;                 ///< camera height above the ground, metres
+
+  /// From a camera-to-world pose whose world z axis points up and whose z = 0 is the ground
+  /// (VoD's odomToCamera/mapToCamera poses).
+  static GroundPlane fromCameraToWorld(const Eigen::Matrix4d& camera_to_world);
+
+  /// Camera-z depth where the ray through normalised image point (x, y) = (X/Z, Y/Z) meets the
+  /// ground, or +inf when the ray does not descend.
+  double depthAlong(double x, double y) const {
+    const double descent = up.x() * x + up.y() * y + up.z();
+    return descent < 0.0 ? -height / descent : INFINITY;
+  }
+};
+
+/// Normalised image coordinates (X/Z, Y/Z) of an angular direction (az, el in degrees).
+Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg);
+
+/// The prior depth of every grid pixel: ground depth below the horizon, capped at `far_depth`
+/// (also above the horizon, where there is no ground).
+std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
+                                    double far_depth);
+
+/// The nearest-surface depth of every grid pixel: the `rank`-th smallest depth (1 = smallest)
+/// among the `k` samples angularly nearest to the pixel, and the angular distance (degrees) to
+/// the nearest sample. A far return behind a near one (radar multipath, returns through
+/// vegetation) does not pull this estimate, unlike a mean. Evaluated on a lattice every `step`
+/// grid pixels and interpolated bilinearly in between. Empty samples: +inf depth.
+struct NearestSurface {
+  std::vector<float> depth;
+  std::vector<float> distance_deg;
+};
+NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
+                                   const PixelAngleGrid& angles, int k, int rank, int step,
+                                   ThreadPool& pool);
+
+}  // namespace multimodal_nvs

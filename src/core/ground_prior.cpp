@@ -1,0 +1,171 @@
+#include "multimodal_nvs/core/ground_prior.hpp"
+
+#include "multimodal_nvs/core/angular_bins.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace multimodal_nvs {
+
+GroundPlane GroundPlane::fromCameraToWorld(const Eigen::Matrix4d& camera_to_world) {
+  GroundPlane plane;
+  // World up (0, 0, 1) in camera coordinates is the third row of the camera-to-world rotation.
+  plane.up = camera_to_world.block<1, 3>(2, 0).transpose().normalized();
+  plane.height = camera_to_world(2, 3);
+  return plane;
+}
+
+Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg) {
+  // az = atan2(X, Z) and el = atan2(-Y, hypot(X, Z)) inverted for Z = 1.
+  const double az = azimuth_deg * M_PI / 180.0, el = elevation_deg * M_PI / 180.0;
+  return {std::tan(az), -std::tan(el) / std::cos(az)};
+}
+
+std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
+                                    double far_depth) {
+  // Pixel rays straight from the intrinsics: the descent up . d is affine in (u, v).
+  const PinholeIntrinsics& k = angles.intrinsics();
+  const StrideGrid& grid = angles.grid();
+  std::vector<float> prior(static_cast<std::size_t>(grid.size()));
+  for (int r = 0; r < grid.rows(); ++r) {
+    const double y = (r * grid.stride - k.cy) / k.fy;
+    for (int c = 0; c < grid.cols(); ++c) {
+      const double x = (c * grid.stride - k.cx) / k.fx;
+      prior[std::size_t(r) * grid.cols() + c] =
+          static_cast<float>(std::min(plane.depthAlong(x, y), far_depth));
+    }
+  }
+  return prior;
+}
+
+namespace {
+
+// Up to this many samples a vectorised distance pass over all of them beats the binned search
+// (sparse radar: the k-th neighbour is degrees away and a binned query visits ~100 bins).
+constexpr std::size_t kBruteForceMaxSamples = 4096;
+
+// The k nearest of all samples by brute force: squared distances in one vectorised pass, then a
+// selection among those within `hint` (a neighbouring query's k-th distance, degrees), or among
+// all of them when fewer than k are that near. The samples of a scan often come sorted by
+// azimuth, which makes a running "replace the worst" selection quadratic; this is not.
+void nearestBruteForce(const std::vector<float>& az, const std::vector<float>& el, float qaz,
+                       float qel, int k, double hint, std::vector<float>& d2,
+                       std::vector<std::pair<double, int>>& out) {
+  const std::size_t n = az.size();
+  d2.resize(n);
+  const float* __restrict a = az.data();
+  const float* __restrict e = el.data();
+  float* __restrict d = d2.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    const float da = a[i] - qaz, de = e[i] - qel;
+    d[i] = da * da + de * de;
+  }
+  const std::size_t kk = std::min<std::size_t>(k, n);
+  out.clear();
+  if (hint > 0.0) {
+    const float limit = static_cast<float>(hint * hint);
+    for (std::size_t i = 0; i < n; ++i) {
+      if (d[i] <= limit) out.emplace_back(d[i], int(i));
+    }
+  }
+  if (out.size() < kk) {
+    out.clear();
+    for (std::size_t i = 0; i < n; ++i) out.emplace_back(d[i], int(i));
+  }
+  std::nth_element(out.begin(), out.begin() + (kk - 1), out.end());
+  out.resize(kk);
+  std::iter_swap(out.begin(), std::min_element(out.begin(), out.end()));
+}
+
+}  // namespace
+
+NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
+                                   const PixelAngleGrid& angles, int k, int rank, int step,
+                                   ThreadPool& pool) {
+  const StrideGrid& grid = angles.grid();
+  const int rows = grid.rows(), cols = grid.cols();
+  NearestSurface out;
+  out.depth.assign(std::size_t(rows) * cols, INFINITY);
+  out.distance_deg.assign(std::size_t(rows) * cols, INFINITY);
+  // Only samples in front of the camera can be a pixel's surface.
+  std::vector<AngularSample> front;
+  for (const auto& s : samples) {
+    if (s.depth > 0.0f) front.push_back(s);
+  }
+  if (front.empty()) return out;
+  const AngularBins bins(front, 1.0);
+  const bool brute_force = front.size() <= kBruteForceMaxSamples;
+  std::vector<float> front_az(front.size()), front_el(front.size());
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    front_az[i] = front[i].azimuth_deg;
+    front_el[i] = front[i].elevation_deg;
+  }
+  std::vector<std::vector<float>> distances(pool.size());
+  step = std::max(1, step);
+  // Lattice nodes at every step-th row/column plus the last one, so interpolation covers the grid.
+  auto nodes = [step](int size) {
+    std::vector<int> n;
+    for (int i = 0; i < size; i += step) n.push_back(i);
+    if (n.back() != size - 1) n.push_back(size - 1);
+    return n;
+  };
+  const std::vector<int> node_rows = nodes(rows), node_cols = nodes(cols);
+  const std::size_t lattice_cols = node_cols.size();
+  std::vector<float> node_depth(node_rows.size() * lattice_cols);
+  std::vector<float> node_distance(node_rows.size() * lattice_cols);
+  std::vector<std::vector<std::pair<double, int>>> scratch(pool.size());
+  std::vector<std::vector<float>> depths(pool.size());
+  pool.parallelFor(static_cast<long long>(node_rows.size()), [&](long long i, int worker) {
+    double previous_kth = 0.0;  // neighbouring nodes have similar k-th distances
+    for (std::size_t j = 0; j < lattice_cols; ++j) {
+      const int r = node_rows[i], c = node_cols[j];
+      if (brute_force) {
+        nearestBruteForce(front_az, front_el, angles.azimuthRow(r)[c], angles.elevationRow(r)[c],
+                          k, previous_kth, distances[worker], scratch[worker]);
+      } else {
+        bins.nearest(angles.azimuthRow(r)[c], angles.elevationRow(r)[c], k, scratch[worker],
+                     previous_kth);
+      }
+      double kth = 0.0;
+      for (const auto& nn : scratch[worker]) kth = std::max(kth, nn.first);
+      previous_kth = std::sqrt(kth) * 1.1;
+      std::vector<float>& d = depths[worker];
+      d.clear();
+      for (const auto& nn : scratch[worker]) d.push_back(front[nn.second].depth);
+      const std::size_t pick = std::min<std::size_t>(std::max(rank, 1) - 1, d.size() - 1);
+      std::nth_element(d.begin(), d.begin() + pick, d.end());
+      node_depth[i * lattice_cols + j] = d[pick];
+      node_distance[i * lattice_cols + j] =
+          static_cast<float>(std::sqrt(scratch[worker].front().first));
+    }
+  });
+  // Bilinear interpolation between lattice nodes.
+  pool.parallelFor(static_cast<long long>(node_rows.size()) - 1, [&](long long i, int) {
+    const int r0 = node_rows[i], r1 = node_rows[i + 1];
+    for (int r = r0; r <= r1; ++r) {
+      const float ty = r1 > r0 ? float(r - r0) / float(r1 - r0) : 0.0f;
+      for (std::size_t j = 0; j + 1 < lattice_cols; ++j) {
+        const int c0 = node_cols[j], c1 = node_cols[j + 1];
+        for (int c = c0; c <= c1; ++c) {
+          const float tx = c1 > c0 ? float(c - c0) / float(c1 - c0) : 0.0f;
+          auto lerp = [&](const std::vector<float>& v) {
+            const float a = v[i * lattice_cols + j], b = v[i * lattice_cols + j + 1];
+            const float d = v[(i + 1) * lattice_cols + j], e = v[(i + 1) * lattice_cols + j + 1];
+            return (1 - ty) * ((1 - tx) * a + tx * b) + ty * ((1 - tx) * d + tx * e);
+          };
+          out.depth[std::size_t(r) * cols + c] = lerp(node_depth);
+          out.distance_deg[std::size_t(r) * cols + c] = lerp(node_distance);
+        }
+      }
+    }
+  });
+  if (node_rows.size() == 1) {  // a single row: copy the nodes along it
+    for (std::size_t j = 0; j < lattice_cols; ++j) {
+      out.depth[node_cols[j]] = node_depth[j];
+      out.distance_deg[node_cols[j]] = node_distance[j];
+    }
+  }
+  return out;
+}
+
+}  // namespace multimodal_nvs
