@@ -85,7 +85,7 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   const auto start = std::chrono::steady_clock::now();
   out.grid = grid;
   out.stats = {};
-  DepthCompletionStats& stats = out.stats;
+  DepthMapStats& stats = out.stats;
   stats.points_total = points_camera.size();
   stats.points_in_view = countInView(points_camera, intrinsics, grid.image);
   const std::vector<AngularSample> samples =

@@ -10,7 +10,7 @@
 
 namespace multimodal_nvs {
 
-struct DepthCompletionStats {
+struct DepthMapStats {
   long long pixels = 0;            ///< grid pixels
   long long predicted = 0;         ///< pixels with a finite variance (a prediction)
   long long kept = 0;              ///< valid after variance threshold and retention
@@ -29,7 +29,7 @@ struct DepthMap {
   std::vector<float> depth;
   std::vector<float> variance;
   std::vector<std::uint8_t> valid;
-  DepthCompletionStats stats;
+  DepthMapStats stats;
 };
 
 /// Runs depth completion. Keeps a thread pool and the per-camera pixel-angle grid between calls, so
