@@ -7,7 +7,7 @@ JOBS ?= $(shell nproc)
 # Debian's ROS tools need Debian's interpreter (catkin_pkg, rospkg), not a pyenv one.
 export PATH := /usr/bin:/bin:$(PATH)
 
-.PHONY: all deps configure build test demo bench clean format
+.PHONY: all deps configure build test demo bench eval clean format
 
 all: build
 
@@ -32,6 +32,10 @@ demo: build
 
 bench: build
 	@scripts/bench.sh $(BUILD_DIR)
+
+# The paper's depth and novel-view tables with the baselines (README, section Evaluation).
+eval: build
+	@scripts/eval.sh $(BUILD_DIR)
 
 format:
 	@find include src test bench -name '*.hpp' -o -name '*.cpp' | xargs clang-format -i
