@@ -107,7 +107,11 @@ run_stage() {
 
 # --- stages --------------------------------------------------------------------------------
 describe_scene() {
-  if [[ -n "${DATA:-}" ]]; then echo "using $SOURCE, frames $FRAMES"; else echo "generating $SOURCE"; fi
+  if [[ -n "${DATA:-}" ]]; then
+    echo "using $SOURCE, frames $FRAMES"
+  else
+    echo "generating $SOURCE"
+  fi
 }
 stage_scene() {
   if [[ -n "${DATA:-}" ]]; then
@@ -140,7 +144,8 @@ stage_depth() {
 
 describe_render() {
   if [[ -x "$TOOLS/render_conditioning" ]]; then
-    echo "render_conditioning along frames $FRAMES, GEN3C export at ${RENDER_SIZE[0]}x${RENDER_SIZE[1]}"
+    echo "render_conditioning along frames $FRAMES," \
+      "GEN3C export at ${RENDER_SIZE[0]}x${RENDER_SIZE[1]}"
   else
     echo "render_conditioning is not in this build: skipped"
   fi

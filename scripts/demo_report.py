@@ -257,7 +257,8 @@ def main():
                 err = depth[sel] - gt[sel]
                 metrics.append(("depth", "MAE vs GT, %s" % label, "%.3f m" % np.abs(err).mean(),
                                 "%d px, %s" % (sel.sum(), gt_kind)))
-                metrics.append(("depth", "RMSE vs GT, %s" % label, "%.3f m" % np.sqrt((err ** 2).mean()),
+                metrics.append(("depth", "RMSE vs GT, %s" % label,
+                                "%.3f m" % np.sqrt((err ** 2).mean()),
                                 "median |err| %.3f m" % np.median(np.abs(err))))
             if gt_kind.startswith("dense"):
                 vmax = float(np.percentile(gt[have], 95))
@@ -298,7 +299,8 @@ def main():
             name = names[i]
             masks = os.path.join(cond, "masks", name)
             preview = os.path.join(cond, "preview", name)
-            cell = '<figure><img src="%s"><figcaption>frame %d' % (rel(os.path.join(frames_dir, name)), i)
+            cell = '<figure><img src="%s"><figcaption>frame %d' % (
+                rel(os.path.join(frames_dir, name)), i)
             if os.path.exists(preview):
                 cell += ' &middot; <a href="%s">preview</a>' % rel(preview)
             if os.path.exists(masks):
@@ -336,9 +338,10 @@ def main():
                         continue
                     for key in ("psnr", "ssim", "covered_psnr", "coverage"):
                         if key in summary:
-                            metrics.append(("novel views", "%s (%s)" % (key.replace("_", " "), note),
-                                            fmt(summary[key], 4), "conditioning renders vs recorded "
-                                            "frames, REFERENCE.md section 5"))
+                            name = "%s (%s)" % (key.replace("_", " "), note)
+                            metrics.append(("novel views", name, fmt(summary[key], 4),
+                                            "conditioning renders vs recorded frames, "
+                                            "REFERENCE.md section 5"))
             except ValueError:
                 pass
         sections.append('<h2>Conditioning frames (recorded trajectory %s)</h2>%s<div class="grid">'
@@ -363,7 +366,8 @@ def main():
     page = """<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>%(title)s</title><style>
 body { font-family: sans-serif; margin: 1.5em; max-width: 1400px; }
-table { border-collapse: collapse; margin: 0.5em 0; } td, th { border: 1px solid #ccc; padding: 3px 8px; }
+table { border-collapse: collapse; margin: 0.5em 0; }
+td, th { border: 1px solid #ccc; padding: 3px 8px; }
 .overlay { position: relative; display: inline-block; max-width: 100%%; }
 .overlay img { display: block; max-width: 100%%; height: auto; }
 .overlay svg { position: absolute; left: 0; top: 0; width: 100%%; height: 100%%; }
@@ -373,9 +377,11 @@ table { border-collapse: collapse; margin: 0.5em 0; } td, th { border: 1px solid
 .bar .grad { width: 240px; height: 12px; }
 </style></head><body>
 <h1>%(title)s</h1>
-<p>Scene: %(root)s &middot; frames %(frames)s &middot; reference frame %(fid)s &middot; sensor %(sensor)s</p>
+<p>Scene: %(root)s &middot; frames %(frames)s &middot; reference frame %(fid)s &middot;
+sensor %(sensor)s</p>
 %(bag)s
-<h2>Metrics</h2><table><tr><th>group</th><th>metric</th><th>value</th><th>note</th></tr>%(metrics)s</table>
+<h2>Metrics</h2><table><tr><th>group</th><th>metric</th><th>value</th><th>note</th></tr>
+%(metrics)s</table>
 %(sections)s
 <h2>Stages</h2><table><tr><th>stage</th><th>time</th><th>status</th></tr>%(timings)s</table>
 </body></html>
