@@ -1,6 +1,8 @@
-// `nearest` baseline: the depth of the angularly nearest sample, found with a uniform bin grid in
-// (azimuth, elevation) and an expanding ring search that stops once no unvisited bin can hold a
-// closer sample — exact, with no radius limit.
+// `nearest` baseline: the depth of the angularly nearest sample — exact, with no radius limit.
+// Samples go into a uniform bin grid in (azimuth, elevation). Pixels are handled in blocks: one
+// expanding ring search finds the sample nearest to the block's centre (distance d_c); every pixel
+// of the block (within h of the centre) then has its nearest sample within d_c + 2h of the centre,
+// so a per-pixel scan of those few candidates is exact.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -38,6 +40,23 @@ class AngularBins {
     std::vector<int> fill(start_.begin(), start_.end() - 1);
     for (std::size_t i = 0; i < samples.size(); ++i) {
       members_[fill[binOf(samples[i].azimuth_deg, samples[i].elevation_deg)]++] = int(i);
+    }
+  }
+
+  /// Appends every sample within `radius` of (az, el) to `out` (in no particular order).
+  void within(float az, float el, float radius, std::vector<int>& out) const {
+    const int x0 = clampX(az - radius), x1 = clampX(az + radius);
+    const int y0 = clampY(el - radius), y1 = clampY(el + radius);
+    const float r2 = radius * radius;
+    for (int y = y0; y <= y1; ++y) {
+      for (int x = x0; x <= x1; ++x) {
+        const std::size_t b = std::size_t(y) * nx_ + x;
+        for (int m = start_[b]; m < start_[b + 1]; ++m) {
+          const int i = members_[m];
+          const float da = samples_[i].azimuth_deg - az, de = samples_[i].elevation_deg - el;
+          if (da * da + de * de <= r2) out.push_back(i);
+        }
+      }
     }
   }
 
@@ -121,17 +140,60 @@ void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAn
   }
   const AngularBins bins(samples, az0, az1, el0, el1);
 
-  pool.parallelFor(rows, [&](long long r, int) {
-    const float* az = angles.azimuthRow(static_cast<int>(r));
-    const float* el = angles.elevationRow(static_cast<int>(r));
-    const std::size_t row = static_cast<std::size_t>(r) * cols;
-    for (int c = 0; c < cols; ++c) {
-      float d2 = 0.0f;
-      const int i = bins.nearest(az[c], el[c], &d2);
-      out.mean[row + c] = samples[i].depth;
-      out.variance[row + c] = static_cast<float>(distanceVariance(std::sqrt(double(d2)), params));
-    }
-  });
+  constexpr int kBlock = 8;
+  const int block_rows = (rows + kBlock - 1) / kBlock, block_cols = (cols + kBlock - 1) / kBlock;
+  std::vector<std::vector<int>> scratch(static_cast<std::size_t>(pool.size()));
+  pool.parallelFor(
+      static_cast<long long>(block_rows) * block_cols,
+      [&](long long b, int worker) {
+        const int r0 = static_cast<int>(b / block_cols) * kBlock;
+        const int c0 = static_cast<int>(b % block_cols) * kBlock;
+        const int r1 = std::min(rows, r0 + kBlock), c1 = std::min(cols, c0 + kBlock);
+        float baz0 = std::numeric_limits<float>::infinity(), baz1 = -baz0, bel0 = baz0,
+              bel1 = -baz0;
+        for (int r = r0; r < r1; ++r) {
+          const float* az = angles.azimuthRow(r);
+          const float* el = angles.elevationRow(r);
+          for (int c = c0; c < c1; ++c) {
+            baz0 = std::min(baz0, az[c]);
+            baz1 = std::max(baz1, az[c]);
+            bel0 = std::min(bel0, el[c]);
+            bel1 = std::max(bel1, el[c]);
+          }
+        }
+        const float caz = 0.5f * (baz0 + baz1), cel = 0.5f * (bel0 + bel1);
+        const float h = 0.5f * std::hypot(baz1 - baz0, bel1 - bel0);
+        float dc2 = 0.0f;
+        bins.nearest(caz, cel, &dc2);
+        // Margin for float rounding of the distances involved.
+        const float reach = std::sqrt(dc2) + 2.0f * h + 1e-3f;
+        std::vector<int>& candidates = scratch[static_cast<std::size_t>(worker)];
+        candidates.clear();
+        bins.within(caz, cel, reach, candidates);
+        std::sort(candidates.begin(), candidates.end());  // ties: the lower index wins
+        for (int r = r0; r < r1; ++r) {
+          const float* az = angles.azimuthRow(r);
+          const float* el = angles.elevationRow(r);
+          const std::size_t row = static_cast<std::size_t>(r) * cols;
+          for (int c = c0; c < c1; ++c) {
+            int best = candidates.front();
+            float best_d = std::numeric_limits<float>::infinity();
+            for (int i : candidates) {
+              const float da = samples[i].azimuth_deg - az[c],
+                          de = samples[i].elevation_deg - el[c];
+              const float d2 = da * da + de * de;
+              if (d2 < best_d) {
+                best_d = d2;
+                best = i;
+              }
+            }
+            out.mean[row + c] = samples[best].depth;
+            out.variance[row + c] =
+                static_cast<float>(distanceVariance(std::sqrt(double(best_d)), params));
+          }
+        }
+      },
+      4);
 }
 
 }  // namespace multimodal_nvs
