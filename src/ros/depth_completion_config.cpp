@@ -27,6 +27,18 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.max_neighbors = config.max_neighbors;
   p.approx_tile = config.approx_tile;
   p.threads = config.threads;
+  const double pitch = config.ground_pitch_deg * M_PI / 180.0;
+  p.ground.camera_height = config.ground_camera_height;
+  p.ground.up_x = 0.0;  // an upward pitch tilts world-up towards the optical axis
+  p.ground.up_y = -std::cos(pitch);
+  p.ground.up_z = std::sin(pitch);
+  p.ground.far_depth = config.ground_far_depth;
+  p.ground.surface_k = config.ground_surface_k;
+  p.ground.surface_rank = config.ground_surface_rank;
+  p.ground.surface_step_px = config.ground_surface_step_px;
+  p.ground.residual_amplitude = config.ground_residual_amplitude;
+  p.ground.relative_sigma = config.ground_relative_sigma;
+  p.ground.relative_sigma_per_deg = config.ground_relative_sigma_per_deg;
   p.validate();
   if (config.stride < 1) throw InputError("parameter stride must be >= 1");
   if (config.cloud_stride < 1) throw InputError("parameter cloud_stride must be >= 1");
@@ -52,6 +64,15 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.max_neighbors = p.max_neighbors;
   config.approx_tile = p.approx_tile;
   config.threads = p.threads;
+  config.ground_camera_height = p.ground.camera_height;
+  config.ground_pitch_deg = std::atan2(p.ground.up_z, -p.ground.up_y) * 180.0 / M_PI;
+  config.ground_far_depth = p.ground.far_depth;
+  config.ground_surface_k = p.ground.surface_k;
+  config.ground_surface_rank = p.ground.surface_rank;
+  config.ground_surface_step_px = p.ground.surface_step_px;
+  config.ground_residual_amplitude = p.ground.residual_amplitude;
+  config.ground_relative_sigma = p.ground.relative_sigma;
+  config.ground_relative_sigma_per_deg = p.ground.relative_sigma_per_deg;
   config.stride = settings.stride;
   config.cloud_stride = settings.cloud_stride;
 }
