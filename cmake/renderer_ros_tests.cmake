@@ -26,3 +26,9 @@ add_rostest(test/ros/renderer.test ARGS mode:=standalone
   DEPENDENCIES test_renderer ${MMNVS_RENDERER_ROSTEST_DEPENDENCIES})
 
 roslaunch_add_file_check(launch/conditioning_renderer.launch USE_TEST_DEPENDENCIES)
+
+# Latency benchmark of a running renderer in tf mode (not a test; built on request):
+#   make bench_renderer, then see the header of test/ros/bench_renderer.cpp.
+add_executable(bench_renderer EXCLUDE_FROM_ALL test/ros/bench_renderer.cpp)
+target_include_directories(bench_renderer SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+target_link_libraries(bench_renderer ${catkin_LIBRARIES} ${OpenCV_LIBS})

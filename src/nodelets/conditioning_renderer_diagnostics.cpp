@@ -71,6 +71,9 @@ void ConditioningRendererDiagnostics::report(diagnostic_updater::DiagnosticStatu
   status.addf("render mean (ms)", "%.1f", window_.render_sum_ms / frames);
   status.addf("render max (ms)", "%.1f", window_.render_max_ms);
   status.addf("frame mean (ms)", "%.1f", window_.frame_sum_ms / frames);
+  const double all_frames = std::max<unsigned long>(1, total_.frames);
+  status.addf("render mean since start (ms)", "%.1f", total_.render_sum_ms / all_frames);
+  status.addf("frame mean since start (ms)", "%.1f", total_.frame_sum_ms / all_frames);
   status.add("synced sets total", total_.sets);
   status.add("published frames total", total_.frames);
   status.add("keyframes total", total_.keyframes);

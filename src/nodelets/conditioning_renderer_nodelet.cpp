@@ -1,9 +1,10 @@
 // multimodal_nvs/ConditioningRenderer: the camera image with the depth nodelet's kept depth in;
-// conditioning frames (colour, hole mask, depth, camera_info, labelled preview) out, rendered from a
-// keyframe into the live camera pose from tf, or along a preset trajectory as a burst with an
-// optional GEN3C export. Wiring only: conversions live in multimodal_nvs/ros/renderer_conversions.hpp
-// and the algorithm in the core (buildColoredCloud, presetTrajectory, PointSplatter,
-// fillHolesPushPull, Gen3cExportWriter), used as the render_conditioning tool uses them.
+// conditioning frames (colour, hole mask, depth, camera_info, labelled preview) out, rendered from
+// a keyframe into the live camera pose from tf, or along a preset trajectory as a burst with an
+// optional GEN3C export. Wiring only: conversions live in
+// multimodal_nvs/ros/renderer_conversions.hpp and the algorithm in the core (buildColoredCloud,
+// presetTrajectory, PointSplatter, fillHolesPushPull, Gen3cExportWriter), used as the
+// render_conditioning tool uses them.
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/camera_publisher.h>
 #include <image_transport/image_transport.h>
@@ -17,6 +18,7 @@
 #include <tf2_ros/transform_listener.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -80,8 +82,7 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   void connectCb();
   bool inputsWanted();
   void onFrame(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::ImageConstPtr& depth,
-               const sensor_msgs::ImageConstPtr& mask,
-               const sensor_msgs::CameraInfoConstPtr& info);
+               const sensor_msgs::ImageConstPtr& mask, const sensor_msgs::CameraInfoConstPtr& info);
   bool wantsKeyframe(const Settings& settings, const ros::Time& stamp) const;
   bool lookupCameraPose(const std::string& world_frame, const std_msgs::Header& header,
                         Eigen::Matrix4d& camera_to_world);
@@ -136,6 +137,7 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   std::unique_ptr<PointSplatter> splatter_;
   int splatter_threads_ = -1;
   std::vector<RenderedFrame> frames_;  // reused between calls
+  std::array<ros::WallTime, rc::kRendererFaultCount> last_logged_{};
   ConditioningRendererDiagnostics diagnostics_;
 };
 
@@ -171,7 +173,8 @@ void ConditioningRendererNodelet::onInit() {
 void ConditioningRendererNodelet::advertiseOutputs() {
   image_transport::SubscriberStatusCallback image_cb =
       boost::bind(&ConditioningRendererNodelet::connectCb, this);
-  ros::SubscriberStatusCallback info_cb = boost::bind(&ConditioningRendererNodelet::connectCb, this);
+  ros::SubscriberStatusCallback info_cb =
+      boost::bind(&ConditioningRendererNodelet::connectCb, this);
   std::lock_guard<std::mutex> lock(connect_mutex_);
   const uint32_t q = static_cast<uint32_t>(std::max(1, publisher_queue_size_));
   image_pub_ = it_->advertiseCamera("conditioning/image", q, image_cb, image_cb, info_cb, info_cb);
@@ -256,15 +259,15 @@ bool ConditioningRendererNodelet::lookupCameraPose(const std::string& world_fram
                                                    const std_msgs::Header& header,
                                                    Eigen::Matrix4d& camera_to_world) {
   try {
-    camera_to_world = tf2::transformToEigen(tf_buffer_->lookupTransform(
-                                                world_frame, header.frame_id, header.stamp,
-                                                tf_timeout_))
-                          .matrix();
+    camera_to_world =
+        tf2::transformToEigen(
+            tf_buffer_->lookupTransform(world_frame, header.frame_id, header.stamp, tf_timeout_))
+            .matrix();
     return true;
   } catch (const tf2::TransformException& e) {
-    return accept(rc::RendererStatus::failure(rc::RendererFault::kTransformUnavailable,
-                                              "tf " + world_frame + " -> '" + header.frame_id +
-                                                  "': " + e.what()));
+    return accept(rc::RendererStatus::failure(
+        rc::RendererFault::kTransformUnavailable,
+        "tf " + world_frame + " -> '" + header.frame_id + "': " + e.what()));
   }
 }
 
@@ -353,17 +356,19 @@ bool ConditioningRendererNodelet::renderBurst(const Settings& settings, std::str
   const int n = settings.num_frames;
   std::string folder;
   try {
-    const Trajectory trajectory = presetTrajectory(
-        settings.preset, settings.magnitude, n,
-        key.image_intrinsics.scaledTo(key.image_size.height, key.image_size.width, size.height,
-                                      size.width),
-        size, cloud->medianDepth());
+    const Trajectory trajectory =
+        presetTrajectory(settings.preset, settings.magnitude, n,
+                         key.image_intrinsics.scaledTo(key.image_size.height, key.image_size.width,
+                                                       size.height, size.width),
+                         size, cloud->medianDepth());
     std::unique_ptr<Gen3cExportWriter> writer;
     std::string partial;
     if (!settings.export_dir.empty()) {
       if (n != kGen3cFrames || size.height != kGen3cHeight || size.width != kGen3cWidth) {
-        NODELET_WARN_ONCE("GEN3C expects 121 frames at 704x1280; the export uses the requested %d "
-                          "frames at %dx%d", n, size.height, size.width);
+        NODELET_WARN_ONCE(
+            "GEN3C expects 121 frames at 704x1280; the export uses the requested %d "
+            "frames at %dx%d",
+            n, size.height, size.width);
       }
       // Written under a temporary name and renamed when complete: readers never see half a folder.
       folder = exportFolder(settings.export_dir, key.header.stamp);
@@ -456,12 +461,17 @@ bool ConditioningRendererNodelet::onRender(std_srvs::Trigger::Request&,
   return true;
 }
 
-/// Counts and logs (throttled) a rejected input; true when `status` is ok.
+/// Counts and logs a rejected input, throttled per reason (so that one recurring fault does not
+/// hide another); true when `status` is ok. Called with state_mutex_ held.
 bool ConditioningRendererNodelet::accept(const rc::RendererStatus& status) {
   if (status.ok()) return true;
   diagnostics_.countFault(status.fault);
-  NODELET_ERROR_THROTTLE(2.0, "dropping input set: %s [%s]", status.reason.c_str(),
-                         rc::toString(status.fault));
+  const ros::WallTime now = ros::WallTime::now();
+  ros::WallTime& last = last_logged_[static_cast<std::size_t>(status.fault)];
+  if (last.isZero() || (now - last).toSec() >= 2.0) {
+    last = now;
+    NODELET_ERROR("dropping input set: %s [%s]", status.reason.c_str(), rc::toString(status.fault));
+  }
   return false;
 }
 

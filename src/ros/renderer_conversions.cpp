@@ -100,8 +100,8 @@ BackprojectionParams keyframeBackprojection(const ConditioningRendererSettings& 
                                             const ImageSize& grid) {
   BackprojectionParams params = settings.backprojection;
   if (settings.resize_depth == "auto" && params.resize_to_render) {
-    params.resize_to_render = grid.height >= params.render_size.height &&
-                              grid.width >= params.render_size.width;
+    params.resize_to_render =
+        grid.height >= params.render_size.height && grid.width >= params.render_size.width;
   }
   return params;
 }
@@ -189,8 +189,8 @@ bool layoutOk(const sensor_msgs::Image& image, std::size_t bytes, std::string& w
     return false;
   }
   if (image.step < std::uint64_t(image.width) * bytes) {
-    why = concat("step ", image.step, " is smaller than width ", image.width, " * ", bytes,
-                 " bytes");
+    why =
+        concat("step ", image.step, " is smaller than width ", image.width, " * ", bytes, " bytes");
     return false;
   }
   const std::uint64_t needed = std::uint64_t(image.step) * image.height;
@@ -236,9 +236,9 @@ RendererStatus checkMask(const sensor_msgs::Image& mask, const ImageSize& depth_
   }
   if (int(mask.width) != depth_size.width || int(mask.height) != depth_size.height) {
     return RendererStatus::failure(
-        RendererFault::kMaskSize, concat("depth/mask is ", mask.width, "x", mask.height,
-                                         " but depth/image is ", depth_size.width, "x",
-                                         depth_size.height));
+        RendererFault::kMaskSize,
+        concat("depth/mask is ", mask.width, "x", mask.height, " but depth/image is ",
+               depth_size.width, "x", depth_size.height));
   }
   return RendererStatus::success();
 }
@@ -303,7 +303,8 @@ RendererStatus rendererInputFromMessages(const sensor_msgs::Image& image,
   out.grid_size = grid;
   out.stride = stride;
   out.grid_intrinsics = grid_k;
-  // The grid has no half-pixel shift (it starts at pixel 0), so the image's K is the grid's times s.
+  // The grid has no half-pixel shift (it starts at pixel 0), so the image's K is the grid's times
+  // s.
   out.image_intrinsics = {grid_k.fx * stride, grid_k.fy * stride, grid_k.cx * stride,
                           grid_k.cy * stride};
   out.image_bgr.release();
@@ -323,7 +324,8 @@ RendererStatus rendererInputFromMessages(const sensor_msgs::Image& image,
     for (int r = 0; r < grid.height; ++r) {
       const cv::Vec3b* src = out.image_bgr.ptr<cv::Vec3b>(r * stride);
       cv::Vec3b* dst = out.grid_bgr.ptr<cv::Vec3b>(r);
-      for (int c = 0; c < grid.width; ++c) dst[c] = src[c * stride];
+      for (int c = 0; c < grid.width; ++c)
+        dst[c] = src[c * stride];
     }
   }
   out.depth = depthMetres(depth);

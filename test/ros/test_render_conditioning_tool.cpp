@@ -29,12 +29,14 @@ constexpr int kH = 120, kW = 160;
 const char* const kIntrinsics = " --intrinsics 80 80 80 60";
 
 struct RunResult {
-  int exit_code;  // -1 when killed by a signal
+  int exit_code;    // -1 when killed by a signal
   std::string out;  // stdout
   std::string all;  // stdout and stderr
 };
 
-std::string dir() { return ::testing::TempDir() + "rct_"; }
+std::string dir() {
+  return ::testing::TempDir() + "rct_";
+}
 
 RunResult runTool(const std::string& args) {
   const std::string err_path = dir() + "stderr.txt";
@@ -43,7 +45,8 @@ RunResult runTool(const std::string& args) {
   FILE* pipe = popen(command.c_str(), "r");
   std::string out;
   std::array<char, 512> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) out += buffer.data();
+  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr)
+    out += buffer.data();
   const int status = pclose(pipe);
   std::ifstream err_file(err_path);
   std::stringstream err;
@@ -75,7 +78,8 @@ void writeValid(const std::string& path, int rows, int cols, bool all_zero = fal
   std::vector<std::uint8_t> valid(static_cast<std::size_t>(rows) * cols, all_zero ? 0 : 1);
   if (!all_zero) {
     for (int r = 20; r < 40; ++r) {
-      for (int c = 30; c < 60; ++c) valid[static_cast<std::size_t>(r) * cols + c] = 0;
+      for (int c = 30; c < 60; ++c)
+        valid[static_cast<std::size_t>(r) * cols + c] = 0;
     }
   }
   io::writeNpy(path, valid.data(), {std::size_t(rows), std::size_t(cols)});
@@ -102,7 +106,9 @@ void writeInputs() {
   std::ofstream(dir() + "calib_f0.txt") << "P2: 0 0 80 0 0 80 60 0 0 0 1 0\n";
 }
 
-bool fileExists(const std::string& path) { return std::ifstream(path).good(); }
+bool fileExists(const std::string& path) {
+  return std::ifstream(path).good();
+}
 
 std::string readText(const std::string& path) {
   std::ifstream in(path);
@@ -111,7 +117,9 @@ std::string readText(const std::string& path) {
   return s.str();
 }
 
-std::vector<float> floats(const io::NpyArray& a) { return a.asFloat(); }
+std::vector<float> floats(const io::NpyArray& a) {
+  return a.asFloat();
+}
 
 class RenderConditioningTool : public ::testing::Test {
  protected:
@@ -125,7 +133,8 @@ TEST_F(RenderConditioningTool, PresetWithGen3cExportWritesTheDocumentedFolder) {
   const std::string out = dir() + "out_preset";
   const RunResult r = runTool(common_ + " --valid " + dir() + "valid.npy" + kIntrinsics +
                               " --preset right --magnitude 0.2 --num-frames 4 --size 48 64"
-                              " --splat zbuffer --gen3c --threads 1 --output " + out);
+                              " --splat zbuffer --gen3c --threads 1 --output " +
+                              out);
   ASSERT_EQ(r.exit_code, 0) << r.all;
   // Exactly one line on stdout: the JSON summary.
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
@@ -186,7 +195,8 @@ TEST_F(RenderConditioningTool, ReferenceFrameReproducesTheImageAtCoveredPixels) 
   const std::string out = dir() + "out_identity";
   const RunResult r = runTool(common_ + " --valid " + dir() + "valid.npy" + kIntrinsics +
                               " --preset forward --magnitude 0.5 --num-frames 2 --size 120 160"
-                              " --splat gen3c --output " + out);
+                              " --splat gen3c --output " +
+                              out);
   ASSERT_EQ(r.exit_code, 0) << r.all;
   const cv::Mat image = testImage();
   const cv::Mat frame = cv::imread(out + "/frames/000.png", cv::IMREAD_COLOR);
@@ -252,7 +262,8 @@ TEST_F(RenderConditioningTool, BadInputGivesExitCodeAndAClearMessage) {
        "exactly one of --calib"},
       {common_ + kIntrinsics + " --preset sideways --magnitude 1 --size 24 32" + out, 1,
        "unknown trajectory preset 'sideways'"},
-      {common_ + kIntrinsics + " --preset forward" + out, 2, "--preset and --magnitude go together"},
+      {common_ + kIntrinsics + " --preset forward" + out, 2,
+       "--preset and --magnitude go together"},
       {common_ + kIntrinsics + preset + " --size 0 32" + out, 2, "--size H W must be positive"},
       {common_ + kIntrinsics + " --preset forward --magnitude 1 --num-frames 0" + out, 2,
        "--num-frames must be >= 1"},
@@ -266,7 +277,8 @@ TEST_F(RenderConditioningTool, BadInputGivesExitCodeAndAClearMessage) {
     const RunResult r = runTool(c.args);
     EXPECT_EQ(r.exit_code, c.exit_code) << c.args << "\n" << r.all;
     EXPECT_NE(r.all.find(c.expected), std::string::npos)
-        << "expected '" << c.expected << "' for" << c.args << "\n" << r.all;
+        << "expected '" << c.expected << "' for" << c.args << "\n"
+        << r.all;
     EXPECT_EQ(r.all.find("Segmentation"), std::string::npos) << r.all;
   }
 }
@@ -281,7 +293,8 @@ TEST_F(RenderConditioningTool, CamerasJsonRowsAreClosedArrays) {
   const std::string cameras = readText(out + "/cameras.json");
   EXPECT_EQ(std::count(cameras.begin(), cameras.end(), '['),
             std::count(cameras.begin(), cameras.end(), ']'))
-      << "unbalanced brackets:\n" << cameras;
+      << "unbalanced brackets:\n"
+      << cameras;
   EXPECT_NE(cameras.find("\"w2c\": [[1, 0, 0, -0.2], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]"),
             std::string::npos)
       << cameras;

@@ -39,7 +39,9 @@ constexpr const char* kCameraFrame = "renderer_test_camera";
 constexpr const char* kWorldFrame = "odom";
 
 /// Pixels of the image without depth (NaN in depth/image, 0 in depth/mask).
-bool inputHole(int v, int u) { return v >= 40 && v < 60 && u >= 100 && u < 120; }
+bool inputHole(int v, int u) {
+  return v >= 40 && v < 60 && u >= 100 && u < 120;
+}
 
 cv::Vec3b colourAt(int v, int u) {
   static const cv::Mat colours = [] {
@@ -119,12 +121,12 @@ class RendererTest : public ::testing::Test {
         (*into)[msg->header.stamp] = msg;
       };
     };
-    subs_.push_back(nh_.subscribe<sensor_msgs::Image>(ns + "/conditioning/image", 50,
-                                                      image_cb(&out_.image)));
-    subs_.push_back(nh_.subscribe<sensor_msgs::Image>(ns + "/conditioning/mask", 50,
-                                                      image_cb(&out_.mask)));
-    subs_.push_back(nh_.subscribe<sensor_msgs::Image>(ns + "/conditioning/depth", 50,
-                                                      image_cb(&out_.depth)));
+    subs_.push_back(
+        nh_.subscribe<sensor_msgs::Image>(ns + "/conditioning/image", 50, image_cb(&out_.image)));
+    subs_.push_back(
+        nh_.subscribe<sensor_msgs::Image>(ns + "/conditioning/mask", 50, image_cb(&out_.mask)));
+    subs_.push_back(
+        nh_.subscribe<sensor_msgs::Image>(ns + "/conditioning/depth", 50, image_cb(&out_.depth)));
     subs_.push_back(nh_.subscribe<sensor_msgs::Image>(ns + "/conditioning/preview", 50,
                                                       image_cb(&out_.preview)));
     subs_.push_back(nh_.subscribe<sensor_msgs::CameraInfo>(
@@ -141,7 +143,8 @@ class RendererTest : public ::testing::Test {
                 status.name.find("conditioning renderer") == std::string::npos) {
               continue;
             }
-            for (const auto& kv : status.values) diagnostics_[kv.key] = kv.value;
+            for (const auto& kv : status.values)
+              diagnostics_[kv.key] = kv.value;
           }
         }));
     image_pub_ = nh_.advertise<sensor_msgs::Image>(ns + "/image", 5);
@@ -223,8 +226,8 @@ class RendererTest : public ::testing::Test {
   std::map<std::string, std::string> diagnostics_;
 };
 
-/// Checks header, sizes and encodings of the five outputs of one frame; mask values exactly {0,255},
-/// depth NaN exactly in holes.
+/// Checks header, sizes and encodings of the five outputs of one frame; mask values exactly
+/// {0,255}, depth NaN exactly in holes.
 void expectWellFormed(const Outputs& out, const ros::Time& stamp, int h, int w) {
   const auto& image = out.image.at(stamp);
   const auto& mask = out.mask.at(stamp);
@@ -376,7 +379,8 @@ TEST_F(RendererTest, TfModeDropsEachBadInputAndRecovers) {
       {"depth grid that is no stride grid of the image", "grid_size",
        [](InputSet& s) {
          s = goodSet(s.image.header.stamp, 1);
-         for (auto* img : {&s.depth, &s.mask}) img->width = 70;
+         for (auto* img : {&s.depth, &s.mask})
+           img->width = 70;
          s.depth.step = 70 * 4;
          s.mask.step = 70;
          s.info.width = 70;
@@ -387,7 +391,8 @@ TEST_F(RendererTest, TfModeDropsEachBadInputAndRecovers) {
       {"image as yuv422", "image_encoding", [](InputSet& s) { s.image.encoding = enc::YUV422; }},
       {"camera frame without a pose", "transform_unavailable",
        [](InputSet& s) {
-         for (auto* img : {&s.image, &s.depth, &s.mask}) img->header.frame_id = "nobody";
+         for (auto* img : {&s.image, &s.depth, &s.mask})
+           img->header.frame_id = "nobody";
          s.info.header.frame_id = "nobody";
        }},
   };
@@ -430,7 +435,8 @@ TEST_F(RendererTest, PresetModeRendersBurstsAndExportsGen3cFolders) {
   constexpr int kFrames = 5, kRh = 48, kRw = 64;  // test/ros/renderer_burst_params.yaml
   constexpr double kFps = 10.0;
   // Export on: set through dynamic_reconfigure, as a user would.
-  const std::string export_dir = ::testing::TempDir() + "renderer_export_" + std::to_string(getpid());
+  const std::string export_dir =
+      ::testing::TempDir() + "renderer_export_" + std::to_string(getpid());
   {
     const std::string name = "/burst/conditioning_renderer/set_parameters";
     ASSERT_TRUE(ros::service::waitForService(name, ros::Duration(20.0)));
@@ -441,7 +447,8 @@ TEST_F(RendererTest, PresetModeRendersBurstsAndExportsGen3cFolders) {
     srv.request.config.strs.push_back(p);
     ASSERT_TRUE(ros::service::call(name, srv));
     bool applied = false;
-    for (const auto& s : srv.response.config.strs) applied |= s.name == "export_dir" && s.value == export_dir;
+    for (const auto& s : srv.response.config.strs)
+      applied |= s.name == "export_dir" && s.value == export_dir;
     ASSERT_TRUE(applied) << "export_dir not applied";
   }
 
@@ -462,8 +469,8 @@ TEST_F(RendererTest, PresetModeRendersBurstsAndExportsGen3cFolders) {
     out_.clear();
   }
   ASSERT_TRUE(trigger("render", message)) << message;
-  EXPECT_TRUE(waitFor([&] { return out_.image.size() >= kFrames && out_.preview.size() >= kFrames; },
-                      10.0));
+  EXPECT_TRUE(waitFor(
+      [&] { return out_.image.size() >= kFrames && out_.preview.size() >= kFrames; }, 10.0));
   ros::WallDuration(0.5).sleep();
   {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -496,7 +503,8 @@ TEST_F(RendererTest, PresetModeRendersBurstsAndExportsGen3cFolders) {
     for (std::size_t p = 0; p < plane; ++p) {
       const float mv = m[f * plane + p];
       ASSERT_TRUE(mv == 0.0f || mv == 1.0f) << mv;
-      for (std::size_t c = 0; c < 3 && mv == 0.0f; ++c) ASSERT_EQ(rgb[(f * 3 + c) * plane + p], -1.0f);
+      for (std::size_t c = 0; c < 3 && mv == 0.0f; ++c)
+        ASSERT_EQ(rgb[(f * 3 + c) * plane + p], -1.0f);
     }
   }
   EXPECT_EQ(cv::imread(folder + "/input_image.png").size(), cv::Size(kRw, kRh));
@@ -524,8 +532,7 @@ TEST_F(RendererTest, PresetModeRendersBurstsAndExportsGen3cFolders) {
   while (!std::ifstream(key_masks).good() && ros::WallTime::now() < deadline) {
     ros::WallDuration(0.05).sleep();
   }
-  EXPECT_EQ(io::readNpy(key_masks).shape,
-            (std::vector<std::size_t>{1, kFrames, 1, 1, kRh, kRw}));
+  EXPECT_EQ(io::readNpy(key_masks).shape, (std::vector<std::size_t>{1, kFrames, 1, 1, kRh, kRw}));
 }
 
 int main(int argc, char** argv) {

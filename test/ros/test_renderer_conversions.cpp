@@ -137,7 +137,8 @@ TEST(RendererConversions, StrideGridOfTheImage) {
 TEST(RendererConversions, StrideTwoSetBecomesGridImageDepthAndFullK) {
   const Set set = makeSet(2);
   rc::RendererInput in;
-  ASSERT_TRUE(rc::rendererInputFromMessages(set.image, set.depth, set.mask, set.info, true, in).ok());
+  ASSERT_TRUE(
+      rc::rendererInputFromMessages(set.image, set.depth, set.mask, set.info, true, in).ok());
   EXPECT_EQ(in.stride, 2);
   EXPECT_EQ(in.grid_size, (mm::ImageSize{6, 8}));
   EXPECT_DOUBLE_EQ(in.image_intrinsics.fx, 10.0);
@@ -166,7 +167,8 @@ TEST(RendererConversions, MillimetreDepth) {
   const std::uint16_t mm = 1500;
   std::memcpy(&set.depth.data[2], &mm, 2);
   rc::RendererInput in;
-  ASSERT_TRUE(rc::rendererInputFromMessages(set.image, set.depth, set.mask, set.info, true, in).ok());
+  ASSERT_TRUE(
+      rc::rendererInputFromMessages(set.image, set.depth, set.mask, set.info, true, in).ok());
   EXPECT_FLOAT_EQ(in.depth.at<float>(0, 1), 1.5f);
   EXPECT_EQ(in.depth.at<float>(0, 0), 0.0f);
 }
