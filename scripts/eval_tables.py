@@ -127,7 +127,8 @@ def merge(out_path, paths):
         config = dict(doc["config"])
         config.pop("shard", None)
         if config != reference:
-            fail("%s: configuration differs from %s; merge only shards of one run" % (path, paths[0]))
+            fail("%s: configuration differs from %s; merge only shards of one run" %
+                 (path, paths[0]))
         for f in doc["frames"]:
             if f["frame"] in seen:
                 fail("%s: frame %s appears in more than one shard" % (path, f["frame"]))
@@ -172,7 +173,8 @@ class Table:
     def markdown(self):
         lines = ["### %s" % self.title, "", self.caption, ""]
         lines.append("| " + " | ".join(self.header) + " |")
-        lines.append("|" + "|".join("---" if i == 0 else "---:" for i in range(len(self.header))) + "|")
+        align = ["---"] + ["---:"] * (len(self.header) - 1)
+        lines.append("|" + "|".join(align) + "|")
         for cells, _ in self.rows:
             lines.append("| " + " | ".join(cells) + " |")
         return "\n".join(lines) + "\n"
@@ -267,15 +269,16 @@ def suite_tables(suite, raw, label, truth, notes):
                   "MAE kept 80 % [m]", "Median runtime [ms]"]
         table = Table("%s_radius" % suite, "%s: radius ablation (local GP, radar)" % label,
                       "Neighbourhood radius of the local GP; all pixels, and MAE over the kept "
-                      "pixels at 80 %% retention. Paper (9 VoD videos): MAE 10.88 / 10.67 / 10.94 m "
-                      "for r = 1 / 2 / 4 deg.%s" % notes, header)
+                      "pixels at 80 %% retention. Paper (9 VoD videos): MAE 10.88 / 10.67 / "
+                      "10.94 m for r = 1 / 2 / 4 deg.%s" % notes, header)
         for radius, doc in radius_docs:
             m, runtime = level_of(doc, 100)
             m80, _ = level_of(doc, 80)
             table.add(["%d°" % radius, fmt(m["mae"], 2), fmt(m["rmse"], 2), fmt(m["rmse_log"], 3),
                        fmt(m["abs_rel"], 3), fmt(m["delta1"], 3),
                        fmt(m80["mae"], 2) if m80 else "–", fmt_ms(runtime)],
-                      dict(radius_deg=radius, median_runtime_ms=runtime, mae_kept80=(m80 or {}).get("mae"), **m))
+                      dict(radius_deg=radius, median_runtime_ms=runtime,
+                           mae_kept80=(m80 or {}).get("mae"), **m))
         tables.append(table)
     # Retention ablation: every model, from the radar runs (one run, four retention levels).
     if radar:
@@ -325,7 +328,8 @@ def suite_tables(suite, raw, label, truth, notes):
                                   ssim=mean["ssim"], psnr_without_reference=excl["psnr"],
                                   covered_psnr=mean["covered_psnr"], coverage=mean["coverage"],
                                   depth_ms=depth.get("compute_ms"),
-                                  render_ms=render.get("total_ms"), gt_frames=len(metrics["frames"]))))
+                                  render_ms=render.get("total_ms"),
+                                  gt_frames=len(metrics["frames"]))))
         if rows:
             reference = "08350, trajectory 08350–08365" if suite == "vod" else \
                 "00000, trajectory 00000–00015"
