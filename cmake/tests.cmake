@@ -11,3 +11,4 @@ target_compile_definitions(test_core PRIVATE
 include(cmake/ros_tests.cmake OPTIONAL)
 include(cmake/renderer_ros_tests.cmake OPTIONAL)
 include(cmake/bag_tests.cmake OPTIONAL)
+include(cmake/pipeline_tests.cmake OPTIONAL)

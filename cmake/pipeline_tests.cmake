@@ -1,0 +1,26 @@
+# The whole pipeline (launch/pipeline.launch: depth completion + conditioning renderer in one
+# manager) on a short synthetic bag, and checks of the pipeline and demo launch files. Included
+# from tests.cmake when testing is enabled (after ros_tests.cmake, which finds rostest and
+# roslaunch). The test writes its bag with make_synthetic_scene and vod_to_bag at run time.
+find_package(rostest REQUIRED)
+find_package(roslaunch REQUIRED)
+
+set(MMNVS_PIPELINE_TEST_DEPENDENCIES multimodal_nvs_nodelets make_synthetic_scene vod_to_bag)
+add_dependencies(tests ${MMNVS_PIPELINE_TEST_DEPENDENCIES})
+
+add_rostest_gtest(test_pipeline test/ros/pipeline.test test/ros/test_pipeline.cpp)
+target_include_directories(test_pipeline SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+target_link_libraries(test_pipeline ${catkin_LIBRARIES})
+target_compile_definitions(test_pipeline PRIVATE
+  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+add_dependencies(test_pipeline ${PROJECT_NAME}_generate_messages_cpp
+  ${MMNVS_PIPELINE_TEST_DEPENDENCIES})
+add_rostest(test/ros/pipeline.test ARGS sensor:=lidar
+  DEPENDENCIES test_pipeline ${MMNVS_PIPELINE_TEST_DEPENDENCIES})
+
+# The launch files with their defaults, and with other arguments through a launch file that
+# includes them (roslaunch-check passes no launch arguments). demo.launch's bag defaults to
+# demo_output/scene.bag (what `make demo` writes); the check does not need the file.
+roslaunch_add_file_check(launch/pipeline.launch USE_TEST_DEPENDENCIES)
+roslaunch_add_file_check(launch/demo.launch USE_TEST_DEPENDENCIES)
+roslaunch_add_file_check(test/ros/pipeline_launch_variants.launch USE_TEST_DEPENDENCIES)
