@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # make demo: the whole pipeline on the built-in synthetic street (or on real View-of-Delft data)
-# with the ROS-free tools, ending in demo_output/index.html.
+# with the tools and, through ROS, launch/demo.launch (both nodelets playing the bag), ending in
+# demo_output/index.html.
 #
 #   scripts/demo.sh BUILD_DIR                       synthetic scene (scale 0.5, 16 frames)
 #   DATA=/path/to/vod FRAMES=8350-8365 scripts/demo.sh BUILD_DIR    real VoD data
@@ -8,7 +9,8 @@
 # Environment: DATA, FRAMES (A-B; default 8350-8365 with DATA), DEMO_OUTPUT (default
 # <repo>/demo_output), DEMO_SCALE (synthetic image scale, 0.5), DEMO_SENSOR (radar|lidar, radar),
 # DEMO_RETAIN (retention percent, 80), DEMO_GEN3C_SIZE ("H W" of the conditioning renders and
-# the GEN3C export; default see below), DEMO_THREADS (0 = all cores).
+# the GEN3C export; default see below), DEMO_THREADS (0 = all cores), DEMO_ROS (0 skips the ROS
+# stage), DEMO_ROS_RATE (bag playback rate, 1), DEMO_ROS_PORT (master port; default a free one).
 #
 # Stages run in the order of STAGES below; each is a function stage_<name> that prints one
 # progress line and logs to demo_output/logs/<name>.log. To add a stage (e.g. playing the bag
@@ -31,7 +33,7 @@ SENSOR=${DEMO_SENSOR:-radar}
 RETAIN=${DEMO_RETAIN:-80}
 THREADS=${DEMO_THREADS:-0}
 
-STAGES=(scene bag depth render report)
+STAGES=(scene bag ros depth render report)
 
 # --- where the data comes from -------------------------------------------------------------
 if [[ -n "${DATA:-}" ]]; then
@@ -62,6 +64,8 @@ FIRST=$((10#${BASH_REMATCH[1]}))
 LAST=$((10#${BASH_REMATCH[2]}))
 FID=$(printf "%05d" "$FIRST")
 BAG="$OUT/scene.bag"
+ROS_OUT="$OUT/ros"
+PIPELINE_BAG="$ROS_OUT/pipeline.bag"
 DEPTH_PREFIX="$OUT/depth/$FID"
 CONDITIONING="$OUT/conditioning"
 
@@ -131,7 +135,49 @@ stage_scene() {
 describe_bag() { echo "converting frames $FRAMES to ${BAG#"$REPO"/}"; }
 stage_bag() {
   require_tool vod_to_bag
-  "$TOOLS/vod_to_bag" --vod-root "$ROOT" --frames "$FRAMES" --output "$BAG" --compressed
+  # Raw images: the conditioning renderer subscribes sensor_msgs/Image, and Debian has no
+  # compressed image_transport plugin to decode /camera/image_raw/compressed for it.
+  "$TOOLS/vod_to_bag" --vod-root "$ROOT" --frames "$FRAMES" --output "$BAG"
+}
+
+describe_ros() {
+  if [[ "${DEMO_ROS:-1}" == 0 ]]; then
+    echo "DEMO_ROS=0: skipped"
+  else
+    echo "roslaunch demo.launch (rosbag play --clock, both nodelets), rosbag record"
+  fi
+}
+stage_ros() {
+  [[ "${DEMO_ROS:-1}" != 0 ]] || return 3
+  [[ -f "$BUILD_DIR/devel/lib/libmultimodal_nvs_nodelets.so" ]] ||
+    { echo "the nodelets are not built in $BUILD_DIR"; return 1; }
+  # Debian's ROS profile scripts read unset variables: no nounset while sourcing.
+  set +u
+  # shellcheck disable=SC1091
+  source "$BUILD_DIR/devel/setup.bash"
+  set -u
+  # A master of our own on a free port (roslaunch starts it and stops it at the end), and ROS's
+  # logs under demo_output.
+  local port=${DEMO_ROS_PORT:-$("$PY" -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')}
+  export ROS_MASTER_URI="http://127.0.0.1:$port" ROS_HOSTNAME=127.0.0.1
+  export ROS_HOME="$ROS_OUT/home" ROS_LOG_DIR="$ROS_OUT/log"
+  unset ROS_IP ROS_NAMESPACE
+  rm -rf "$ROS_OUT"
+  mkdir -p "$ROS_HOME" "$ROS_LOG_DIR"
+  local params="" rate=${DEMO_ROS_RATE:-1}
+  [[ -n "${DATA:-}" ]] || params="$REPO/config/demo_synthetic.yaml"
+  # The bag's duration at this rate, plus start-up, plus the tail: a hung launch cannot stall the
+  # demo.
+  local limit
+  limit=$(awk -v n=$((LAST - FIRST + 1)) -v r="$rate" 'BEGIN { printf "%d", n / 10.0 / r + 90 }')
+  echo "master $ROS_MASTER_URI, limit ${limit} s"
+  timeout --signal=INT --kill-after=20 "$limit" roslaunch --port "$port" multimodal_nvs demo.launch \
+    bag:="$BAG" gui:=false sensor:="$SENSOR" rate:="$rate" params:="$params" \
+    render_height:="${RENDER_SIZE[0]}" render_width:="${RENDER_SIZE[1]}" \
+    record:="$PIPELINE_BAG" wait:=true exit_at_end:=true delay:=3.0 linger:=3.0
+  [[ -f "$PIPELINE_BAG" ]] || { echo "rosbag record wrote no $PIPELINE_BAG"; return 1; }
+  "$PY" "$REPO/scripts/demo_ros_summary.py" --bag "$PIPELINE_BAG" --input-bag "$BAG" \
+    --out "$ROS_OUT" --frames $((LAST - FIRST + 1))
 }
 
 describe_depth() { echo "complete_depth on frame $FID ($SENSOR, retain $RETAIN %)"; }
@@ -166,6 +212,7 @@ stage_report() {
   "$PY" "$REPO/scripts/demo_report.py" --out "$OUT" --root "$ROOT" --frame "$FIRST" \
     --frames "$FRAMES" --sensor "$SENSOR" --depth-prefix "$DEPTH_PREFIX" \
     --conditioning "$conditioning" --timings "$TIMINGS" --bag "$BAG" \
+    --ros-summary "$ROS_OUT/summary.json" \
     --title "multimodal_nvs demo: $SOURCE"
 }
 

@@ -12,6 +12,8 @@ Inputs (all paths relative to --out unless absolute):
   --depth-prefix P    complete_depth output prefix (P_depth.npy, P_variance.npy, P_valid.npy, PNGs)
   --conditioning DIR  render_conditioning output directory (optional)
   --timings FILE      "stage<TAB>seconds<TAB>status" lines written by demo.sh
+  --ros-summary FILE  summary.json of scripts/demo_ros_summary.py (the bag played through
+                      launch/demo.launch and the recorded outputs; optional)
 """
 import argparse
 import html
@@ -146,6 +148,73 @@ def project(points, calib, width, height):
 # ---------------------------------------------------------------------------------------------
 
 
+def ros_section(path, rel, metrics):
+    """HTML of the ROS stage from demo_ros_summary.py's summary.json; adds rows to `metrics`."""
+    if not path or not os.path.exists(path):
+        return ("<h2>ROS pipeline</h2><p>not run (no %s: the ROS stage was skipped or failed)</p>" %
+                html.escape(path or "summary.json"))
+    with open(path) as f:
+        summary = json.load(f)
+    folder = os.path.dirname(os.path.abspath(path))
+    frames = summary.get("input_frames") or 0
+    rows = []
+    for topic, t in summary.get("topics", {}).items():
+        if not t.get("count") and topic in ("/conditioning/depth", "/diagnostics"):
+            continue
+        rows.append("<tr><td>%s</td><td>%d</td><td>%s</td></tr>" % (
+            html.escape(topic), t.get("count", 0),
+            "%.1f Hz" % t["rate_hz"] if t.get("rate_hz") else "n/a"))
+    for topic in ("/depth/image", "/conditioning/image"):
+        t = summary.get("topics", {}).get(topic, {})
+        metrics.append(("ros", "%s messages (of %d frames played)" % (topic, frames),
+                        "%d" % t.get("count", 0),
+                        "rate %s (header stamps, bag time)" %
+                        ("%.1f Hz" % t["rate_hz"] if t.get("rate_hz") else "n/a")))
+    ds = summary.get("depth_stats") or {}
+    if ds:
+        metrics.append(("ros", "depth nodelet compute (median / max)",
+                        "%s / %s ms" % (fmt(ds.get("compute_ms_median")),
+                                        fmt(ds.get("compute_ms_max"))),
+                        "depth/stats; median points in view %s, kept pixels %s" %
+                        (fmt(ds.get("points_in_view_median")), fmt(ds.get("kept_pixels_median")))))
+    images = summary.get("images", {})
+    cells = []
+    d = images.get("depth")
+    if d:
+        cells.append('<figure><img src="%s"><figcaption>/depth/image at t = %.2f s (%dx%d, kept '
+                     '%.0f %%)%s</figcaption></figure>' % (
+                         rel(os.path.join(folder, d["png"])), d["stamp"], d["size"][1],
+                         d["size"][0], 100 * d.get("kept_fraction", 0),
+                         jet_css(d.get("vmin", 0), d.get("vmax", 1), "m")))
+        if d.get("mask_png"):
+            cells.append('<figure><img src="%s"><figcaption>/depth/mask (white: kept)'
+                         '</figcaption></figure>' % rel(os.path.join(folder, d["mask_png"])))
+    c = images.get("conditioning")
+    if c:
+        note = ""
+        if c.get("coverage") is not None:
+            note = ", rendered %.0f %%" % (100 * c["coverage"])
+            metrics.append(("ros", "conditioning coverage (frame shown%s)" %
+                            (", keyframe %.0f %%" % (100 * c["keyframe_coverage"])
+                             if c.get("keyframe_coverage") is not None else ""),
+                            "%.1f %%" % (100 * c["coverage"]), "/conditioning/mask == 255"))
+        cells.append('<figure><img src="%s"><figcaption>/conditioning/image at t = %.2f s '
+                     '(%dx%d%s): the first frame (keyframe) rendered into this pose'
+                     '</figcaption></figure>' % (rel(os.path.join(folder, c["png"])), c["stamp"],
+                                                 c["size"][1], c["size"][0], note))
+        if c.get("mask_png"):
+            cells.append('<figure><img src="%s"><figcaption>/conditioning/mask</figcaption>'
+                         '</figure>' % rel(os.path.join(folder, c["mask_png"])))
+    missing = summary.get("missing") or []
+    warn = ("<p><b>No message on %s.</b></p>" % html.escape(", ".join(missing))) if missing else ""
+    bag = summary.get("bag", "")
+    return ('<h2>ROS pipeline (roslaunch multimodal_nvs demo.launch)</h2><p>The bag played with '
+            'simulated time through both nodelets in one manager; outputs recorded to <a href="%s">'
+            '%s</a>. Decoded from that bag:</p>%s<table><tr><th>topic</th><th>messages</th>'
+            '<th>rate</th></tr>%s</table><div class="grid">%s</div>' %
+            (rel(bag), html.escape(rel(bag)), warn, "".join(rows), "".join(cells)))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--out", required=True)
@@ -158,6 +227,7 @@ def main():
     ap.add_argument("--timings", default="")
     ap.add_argument("--title", default="multimodal_nvs demo")
     ap.add_argument("--bag", default="")
+    ap.add_argument("--ros-summary", default="")
     args = ap.parse_args()
 
     out = os.path.abspath(args.out)
@@ -350,6 +420,9 @@ def main():
         sections.append("<h2>Conditioning frames</h2><p>not rendered (render_conditioning is not "
                         "part of this build, or the stage was skipped)</p>")
 
+    # The ROS pipeline: the bag through both nodelets (launch/demo.launch), outputs recorded.
+    sections.append(ros_section(args.ros_summary, rel, metrics))
+
     # Timings.
     timing_rows = ""
     if args.timings and os.path.exists(args.timings):
@@ -392,7 +465,7 @@ sensor %(sensor)s</p>
     with open(index, "w") as f:
         f.write(page)
     summary = {name: value for group, name, value, note in metrics
-               if group in ("depth", "novel views")}
+               if group in ("depth", "novel views", "ros")}
     print(json.dumps({"report": index, "metrics": summary}))
     return 0
 
