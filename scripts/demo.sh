@@ -177,7 +177,7 @@ stage_ros() {
     record:="$PIPELINE_BAG" wait:=true exit_at_end:=true delay:=3.0 linger:=3.0
   [[ -f "$PIPELINE_BAG" ]] || { echo "rosbag record wrote no $PIPELINE_BAG"; return 1; }
   "$PY" "$REPO/scripts/demo_ros_summary.py" --bag "$PIPELINE_BAG" --input-bag "$BAG" \
-    --out "$ROS_OUT" --frames $((LAST - FIRST + 1))
+    --out "$ROS_OUT" --frames $((LAST - FIRST + 1)) --sensor "$SENSOR"
 }
 
 describe_depth() { echo "complete_depth on frame $FID ($SENSOR, retain $RETAIN %)"; }

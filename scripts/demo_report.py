@@ -157,6 +157,9 @@ def ros_section(path, rel, metrics):
         summary = json.load(f)
     folder = os.path.dirname(os.path.abspath(path))
     frames = summary.get("input_frames") or 0
+    scans = summary.get("input_scans")
+    played = "%d images%s played" % (frames, "" if scans is None else ", %d %s scans" % (
+        scans, summary.get("sensor", "")))
     rows = []
     for topic, t in summary.get("topics", {}).items():
         if not t.get("count") and topic in ("/conditioning/depth", "/diagnostics"):
@@ -166,7 +169,7 @@ def ros_section(path, rel, metrics):
             "%.1f Hz" % t["rate_hz"] if t.get("rate_hz") else "n/a"))
     for topic in ("/depth/image", "/conditioning/image"):
         t = summary.get("topics", {}).get(topic, {})
-        metrics.append(("ros", "%s messages (of %d frames played)" % (topic, frames),
+        metrics.append(("ros", "%s messages (%s)" % (topic, played),
                         "%d" % t.get("count", 0),
                         "rate %s (header stamps, bag time)" %
                         ("%.1f Hz" % t["rate_hz"] if t.get("rate_hz") else "n/a")))

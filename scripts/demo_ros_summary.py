@@ -59,6 +59,7 @@ def main():
     ap.add_argument("--input-bag", default="", help="the played bag (for the input frame count)")
     ap.add_argument("--out", required=True, help="directory for summary.json and the PNGs")
     ap.add_argument("--frames", type=int, default=0, help="frames in the played bag")
+    ap.add_argument("--sensor", default="radar", help="radar | lidar: the played cloud topic")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
 
@@ -90,10 +91,11 @@ def main():
                         "message": status.message,
                         "values": {kv.key: kv.value for kv in status.values}}
 
-    input_frames = args.frames
+    input_frames, input_scans = args.frames, None
     if args.input_bag and os.path.exists(args.input_bag):
         with rosbag.Bag(args.input_bag) as bag:
             input_frames = bag.get_message_count(topic_filters=["/camera/image_raw"]) or input_frames
+            input_scans = bag.get_message_count(topic_filters=["/%s/points" % args.sensor])
 
     topics = {}
     for topic in EXPECTED + OPTIONAL + sorted(set(stamps) - set(EXPECTED) - set(OPTIONAL)):
@@ -102,7 +104,8 @@ def main():
                          "last_stamp": last, "rate_hz": rate}
     missing = [t for t in EXPECTED if topics[t]["count"] == 0]
 
-    summary = {"bag": os.path.abspath(args.bag), "input_frames": input_frames, "topics": topics,
+    summary = {"bag": os.path.abspath(args.bag), "input_frames": input_frames,
+               "input_scans": input_scans, "sensor": args.sensor, "topics": topics,
                "missing": missing, "images": {}}
     if stats:
         summary["depth_stats"] = {
@@ -153,7 +156,8 @@ def main():
         json.dump(summary, f, indent=1, sort_keys=True)
     line = {t: topics[t]["count"] for t in EXPECTED}
     print(json.dumps({"ros_summary": os.path.join(args.out, "summary.json"),
-                      "input_frames": input_frames, "counts": line, "missing": missing}))
+                      "input_frames": input_frames, "input_scans": input_scans, "counts": line,
+                      "missing": missing}))
     if missing:
         print("no message recorded on: " + ", ".join(missing), file=sys.stderr)
         return 1
