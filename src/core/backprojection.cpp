@@ -152,7 +152,14 @@ ColoredCloud buildColoredCloud(const cv::Mat& depth, const cv::Mat& valid, const
   PinholeIntrinsics grid_k = k;
   if (params.resize_to_render) {
     const ImageSize to = params.render_size;
-    kept = scatterDepthNearest(depth, valid, to);
+    if (depth.rows >= to.height && depth.cols >= to.width) {
+      kept = scatterDepthNearest(depth, valid, to);  // GEN3C's own downsizing
+    } else {
+      // Upsizing (e.g. a stride-2 depth grid to 704x1280): a scatter would leave empty rows and
+      // columns that the depth-edge filter then takes for edges, dropping almost every point.
+      cv::resize(keptDepth(depth, valid), kept, cv::Size(to.width, to.height), 0, 0,
+                 cv::INTER_NEAREST);
+    }
     cv::resize(image_bgr, image, cv::Size(to.width, to.height), 0, 0, cv::INTER_LINEAR);
     grid_k = k.scaledTo(depth.rows, depth.cols, to.height, to.width);
   } else {

@@ -236,6 +236,7 @@ void ConditioningRendererNodelet::onFrame(const sensor_msgs::ImageConstPtr& imag
   Eigen::Matrix4d camera_to_world = Eigen::Matrix4d::Identity();
   if (live && !lookupCameraPose(settings.world_frame, input.header, camera_to_world)) return;
   if (keyframe) {
+    // takeKeyframe moves `input` into the keyframe: render from the keyframe's copy below.
     if (!takeKeyframe(input, camera_to_world, settings)) return;
     if (!live) {
       std::string report;
@@ -243,7 +244,7 @@ void ConditioningRendererNodelet::onFrame(const sensor_msgs::ImageConstPtr& imag
       return;
     }
   }
-  renderLive(input, camera_to_world, settings, start);
+  renderLive(keyframe ? keyframe_->input : input, camera_to_world, settings, start);
 }
 
 bool ConditioningRendererNodelet::wantsKeyframe(const Settings& settings,

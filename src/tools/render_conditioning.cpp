@@ -209,9 +209,10 @@ std::string camerasJson(const mm::Trajectory& traj, const std::string& source) {
     for (int r = 0; r < 4; ++r) {
       out << (r ? ", " : "") << "[";
       for (int c = 0; c < 4; ++c) out << (c ? ", " : "") << cam.world_to_camera(r, c);
+      out << "]";
     }
     const mm::PinholeIntrinsics& k = cam.intrinsics;
-    out << "]], \"K\": [[" << k.fx << ", 0, " << k.cx << "], [0, " << k.fy << ", " << k.cy
+    out << "], \"K\": [[" << k.fx << ", 0, " << k.cx << "], [0, " << k.fy << ", " << k.cy
         << "], [0, 0, 1]]}" << (i + 1 < traj.cameras.size() ? "," : "") << "\n";
   }
   out << "  ]\n}\n";
