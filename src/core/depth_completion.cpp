@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "multimodal_nvs/core/baselines.hpp"
 #include "multimodal_nvs/core/depth_models.hpp"
@@ -131,11 +132,17 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   const long long chunks = static_cast<long long>((n + kChunk - 1) / kChunk);
   std::vector<long long> chunk_count(chunks, 0);
   pool_->parallelFor(chunks, [&](long long c, int) {
+    // Branch-free (bitwise &, not &&) so that the loop vectorises.
     long long predicted = 0;
+    const float* variance = prediction.variance.data();
+    const float* mean = prediction.mean.data();
+    std::uint8_t* is_candidate = candidate.data();
     for (std::size_t i = c * kChunk; i < std::min<std::size_t>(n, (c + 1) * kChunk); ++i) {
-      const float v = prediction.variance[i];
-      predicted += std::isfinite(v);
-      candidate[i] = std::isfinite(v) && v <= threshold && std::isfinite(prediction.mean[i]);
+      const float v = variance[i], m = mean[i];
+      const bool finite_v = std::abs(v) <= std::numeric_limits<float>::max();
+      const bool finite_m = std::abs(m) <= std::numeric_limits<float>::max();
+      predicted += finite_v;
+      is_candidate[i] = finite_v & (v <= threshold) & finite_m;
     }
     chunk_count[c] = predicted;
   });
@@ -150,9 +157,11 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   out.variance.swap(prediction.variance);
   pool_->parallelFor(chunks, [&](long long c, int) {
     long long kept = 0;
+    float* depth = out.depth.data();
+    const std::uint8_t* valid = out.valid.data();
     for (std::size_t i = c * kChunk; i < std::min<std::size_t>(n, (c + 1) * kChunk); ++i) {
-      if (!out.valid[i]) out.depth[i] = -1.0f;
-      kept += out.valid[i];
+      depth[i] = valid[i] ? depth[i] : -1.0f;
+      kept += valid[i];
     }
     chunk_count[c] = kept;
   });

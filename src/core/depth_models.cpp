@@ -201,7 +201,7 @@ void predictKernel(const std::vector<AngularSample>& samples, const PixelAngleGr
     const int row = static_cast<int>(row_index);
     const float* az = angles.azimuthRow(row);
     const float* el = angles.elevationRow(row);
-    std::vector<float> weights;
+    SimdVector<float> weights;
     for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
       const NeighbourSegment& seg = sets.segments()[k];
       const int n = sets.setSize(seg.set_id);
@@ -209,7 +209,9 @@ void predictKernel(const std::vector<AngularSample>& samples, const PixelAngleGr
       for (int c0 = seg.col_begin; c0 < seg.col_end; c0 += kBlock) {
         const int m = std::min(kBlock, seg.col_end - c0);
         // Exponents of the whole n x m block first, then one vectorised exp over all of them.
-        weights.resize(std::size_t(n) * m);
+        // Padded to whole 16-float packets: Eigen's exp then never falls back to scalar expf.
+        const std::size_t padded = (std::size_t(n) * m + 15) & ~std::size_t(15);
+        weights.resize(padded, 0.0f);
         for (int i = 0; i < n; ++i) {
           const AngularSample& s = samples[members[i]];
           float* w = weights.data() + std::size_t(i) * m;
@@ -220,7 +222,7 @@ void predictKernel(const std::vector<AngularSample>& samples, const PixelAngleGr
             w[p] = (-0.5f * d2) / ls2;
           }
         }
-        Eigen::Map<Eigen::ArrayXf> block(weights.data(), weights.size());
+        Eigen::Map<Eigen::ArrayXf> block(weights.data(), padded);
         block = block.exp();
         double sum_w[kBlock] = {0.0}, sum_wy[kBlock] = {0.0}, sum_wyy[kBlock] = {0.0};
         for (int i = 0; i < n; ++i) {

@@ -28,7 +28,7 @@ void predictBlocks(const double* packed_factor, const double* beta, const float*
   // Pixels are processed in blocks with the block index innermost, so the exponentials and the
   // forward substitution vectorise across pixels. w is row-major n x block.
   // 8 spare doubles so that the exponentials run over whole SIMD packets (no scalar tail).
-  thread_local std::vector<double> w;
+  thread_local SimdVector<double> w;
   w.resize(std::size_t(n) * kMaxStackPixels + 8, 0.0);
   for (int p0 = 0; p0 < pixels; p0 += kMaxStackPixels) {
     const int m = std::min(kMaxStackPixels, pixels - p0);

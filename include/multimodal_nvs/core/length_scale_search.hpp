@@ -2,6 +2,7 @@
 #include <vector>
 
 #include "multimodal_nvs/core/local_gp.hpp"
+#include "multimodal_nvs/core/simd_buffer.hpp"
 
 namespace multimodal_nvs {
 
@@ -37,7 +38,7 @@ class LengthScaleSearch {
   int n_ = 0;
   std::vector<double> sq_dist_;  // [packed (i, j), lane]
   std::vector<double> y_;        // [i, lane]
-  std::vector<double> k_;        // [packed (i, j), lane]: kernel, then Cholesky factor
+  SimdVector<double> k_;         // [packed (i, j), lane]: kernel, then Cholesky factor
   std::vector<double> z_;        // [i, lane]: L^-1 y
 };
 

@@ -2,6 +2,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "multimodal_nvs/core/simd_buffer.hpp"
+
 namespace multimodal_nvs {
 
 /// Hyperparameters of the local GP with marginal-likelihood length scale (reference defaults).
@@ -50,8 +52,8 @@ class LocalGp {
   LocalGpParams params_;
   int n_ = 0;
   std::vector<double> az_, el_, y_;
-  std::vector<double> sq_dist_;  // packed lower triangle, row-major
-  std::vector<double> packed_;   // K, then its Cholesky factor, packed like sq_dist_
+  SimdVector<double> sq_dist_;   // packed lower triangle, row-major (padded)
+  SimdVector<double> packed_;    // K, then its Cholesky factor, packed like sq_dist_
   std::vector<double> scratch_;
   Eigen::MatrixXd dense_;        // only for large sets
 };
