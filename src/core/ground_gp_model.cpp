@@ -47,10 +47,14 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
           : nearestSurfaceDepth(samples, angles, 1, 1, step, pool).distance_deg;
   // The far value only where neither the ground nor any sample bounds the depth.
   std::vector<float> prior = groundPriorDepth(angles, plane, INFINITY);
-  for (std::size_t p = 0; p < prior.size(); ++p) {
-    prior[p] = std::min(prior[p], surface.depth[p]);
-    if (!std::isfinite(prior[p])) prior[p] = static_cast<float>(far);
-  }
+  const long long rows = angles.grid().rows();
+  const std::size_t cols = static_cast<std::size_t>(angles.grid().cols());
+  pool.parallelFor(rows, [&](long long r, int) {
+    for (std::size_t p = r * cols; p < (r + 1) * cols; ++p) {
+      prior[p] = std::min(prior[p], surface.depth[p]);
+      if (!std::isfinite(prior[p])) prior[p] = static_cast<float>(far);
+    }
+  }, 16);
 
   if (g.residual_amplitude > 0.0) {
     // The prior at each sample's own direction: ground capped by the surface estimate of the
@@ -80,17 +84,20 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
     residual_params.gp.amplitude = g.residual_amplitude;
     predictLocalGp(samples, residual, angles, sets, residual_params, PriorMean{0.0, &prior}, pool,
                    out);
-    // A depth is positive: the residual GP must not push a near prior through the camera.
-    for (std::size_t p = 0; p < prior.size(); ++p) out.mean[p] = std::max(out.mean[p], 0.1f);
   } else {
     out.mean = prior;
     out.variance.assign(prior.size(), 0.0f);
   }
-  for (std::size_t p = 0; p < prior.size(); ++p) {
-    const double sigma =
-        out.mean[p] * (g.relative_sigma + g.relative_sigma_per_deg * support_distance[p]);
-    out.variance[p] += static_cast<float>(sigma * sigma);
-  }
+  pool.parallelFor(rows, [&](long long r, int) {
+    for (std::size_t p = r * cols; p < (r + 1) * cols; ++p) {
+      // A depth is positive: the residual GP must not push a near prior through the camera.
+      const float mean = std::max(out.mean[p], 0.1f);
+      const float sigma = mean * static_cast<float>(g.relative_sigma + g.relative_sigma_per_deg *
+                                                                           support_distance[p]);
+      out.mean[p] = mean;
+      out.variance[p] += sigma * sigma;
+    }
+  }, 16);
 }
 
 }  // namespace multimodal_nvs
