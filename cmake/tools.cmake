@@ -1,6 +1,6 @@
 # ROS-free command-line tools: every src/tools/<name>.cpp is a tool called <name>. Tools that need
 # rosbag list themselves in MMNVS_ROSBAG_TOOLS.
-add_library(multimodal_nvs_cli STATIC src/tools/common/cli.cpp)
+add_library(multimodal_nvs_cli STATIC src/tools/common/cli.cpp src/tools/common/depth_options.cpp)
 target_include_directories(multimodal_nvs_cli PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/src/tools)
 target_link_libraries(multimodal_nvs_cli PUBLIC multimodal_nvs_core)
 

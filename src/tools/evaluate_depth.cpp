@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "common/cli.hpp"
+#include "common/depth_options.hpp"
 #include "multimodal_nvs/core/depth_completion.hpp"
 #include "multimodal_nvs/core/depth_metrics.hpp"
 #include "multimodal_nvs/core/errors.hpp"
@@ -29,6 +30,7 @@ namespace mm = multimodal_nvs;
 namespace {
 
 void declareOptions(mm::cli::Args& args) {
+  mm::cli::declareDepthModelOptions(args);
   args.option("vod-root", 1, "View-of-Delft layout root (real VoD or make_synthetic_scene output)");
   args.option("frames", 1, "frames: numbers and ranges, e.g. 549,1047 or 8350-8365");
   args.option("frames-file", 1, "file with one frame number per line (instead of --frames)");
@@ -46,19 +48,7 @@ void declareOptions(mm::cli::Args& args) {
   args.option("pred", 1,
               "evaluate saved output PREFIX_depth.npy (+ PREFIX_variance.npy for "
               "retention) of one frame instead of running a model");
-  args.option("model", 1, "local_gp_mle|kernel|nearest|linear|ipbasic|constant", "local_gp_mle");
   args.option("stride", 1, "grid step in pixels (as complete_depth --stride)", "1");
-  args.option("radius-deg", 1, "neighbourhood radius in degrees", "2");
-  args.option("amplitude", 1, "GP amplitude a", "25");
-  args.option("noise", 1, "GP observation noise sigma", "0.5");
-  args.option("length-scale-min", 1, "length-scale search lower bound (deg)", "0.1");
-  args.option("length-scale-max", 1, "length-scale search upper bound (deg)", "10");
-  args.option("kernel-length-scale-deg", 1, "kernel-regression length scale", "0.75");
-  args.option("shift", 1, "auto|median|mean|none|<metres>", "median");
-  args.option("var-threshold", 1, "predictions with larger variance are not kept", "inf");
-  args.option("max-neighbors", 1, "0: exact GP; K>0: tile approximation with at most K samples",
-              "0");
-  args.option("approx-tile", 1, "tile side (grid pixels) of the approximation", "16");
   args.option("retain-percent", 1,
               "comma list: keep p% of all grid pixels with the lowest "
               "variance, evaluated on the kept pixels (100: every prediction)",
@@ -66,7 +56,6 @@ void declareOptions(mm::cli::Args& args) {
   args.option("max-depth", 1, "range cap: ignore ground truth deeper than this (0: none)", "0");
   args.option("image-size", 2, "image size H W (default: from the frame's image)");
   args.option("repeat", 1, "run the model N times per frame and report the median time", "1");
-  args.option("threads", 1, "worker threads (0: all cores)", "0");
   args.option("label", 1, "name of this configuration in the JSON (default: the model)");
   args.option("output", 1, "write the full JSON (per frame and aggregate) to this file");
 }
@@ -155,25 +144,6 @@ std::vector<double> parseRetentionList(const std::string& text) {
   }
   if (out.empty()) throw mm::cli::UsageError("--retain-percent: empty list");
   return out;
-}
-
-mm::DepthCompletionParams paramsFrom(const mm::cli::Args& args) {
-  mm::DepthCompletionParams p;
-  p.model = mm::parseDepthModel(args.str("model", "local_gp_mle"));
-  p.radius_deg = args.number("radius-deg", p.radius_deg);
-  p.gp.amplitude = args.number("amplitude", p.gp.amplitude);
-  p.gp.noise = args.number("noise", p.gp.noise);
-  p.gp.length_scale_min = args.number("length-scale-min", p.gp.length_scale_min);
-  p.gp.length_scale_max = args.number("length-scale-max", p.gp.length_scale_max);
-  p.kernel_length_scale_deg = args.number("kernel-length-scale-deg", p.kernel_length_scale_deg);
-  p.shift = mm::DepthShift::parse(args.str("shift", "median"));
-  p.var_threshold = args.number("var-threshold", p.var_threshold);
-  p.max_neighbors = args.integer("max-neighbors", 0);
-  p.approx_tile = args.integer("approx-tile", p.approx_tile);
-  p.threads = args.integer("threads", 0);
-  p.retain_percent = 100.0;  // retention is applied per requested level below
-  p.validate();
-  return p;
 }
 
 /// Every k-th record starting at `phase` (keep = true) or all the others (keep = false).
@@ -315,7 +285,8 @@ int run(int argc, char** argv) {
   options.max_depth = args.number("max-depth", 0.0);
   if (!(options.max_depth >= 0.0)) throw mm::cli::UsageError("--max-depth must be >= 0");
   const bool from_file = args.has("pred");
-  const mm::DepthCompletionParams params = paramsFrom(args);
+  // Retention is applied per requested level from one run, so the model runs with 100 %.
+  const mm::DepthCompletionParams params = mm::cli::depthModelParams(args);
   if (from_file && all_frames.size() != 1) {
     throw mm::cli::UsageError("--pred evaluates one frame: give a single --frames value");
   }
@@ -416,8 +387,10 @@ int run(int argc, char** argv) {
       const auto points_camera = mm::transformToCamera(input_sensor, calib.sensorToCamera());
       std::vector<double> times;
       mm::DepthMap map;
+      mm::DepthCompletionParams frame_params = params;
+      mm::cli::applyGroundPose(args, frame.pose(), frame_params);  // ground_gp: this frame's pose
       for (int i = 0; i < repeat; ++i) {
-        completer.complete(points_camera, intrinsics, grid, params, map);
+        completer.complete(points_camera, intrinsics, grid, frame_params, map);
         times.push_back(map.stats.compute_ms);
       }
       res.runtime_ms = median(times);
