@@ -40,12 +40,12 @@ LOGS="$OUT/logs"
 
 # Depth models of the tables. The GP on LiDAR input uses the documented tile approximation: the
 # exact GP takes about a minute per frame on 1-in-4 LiDAR even at stride 4 (measured 58 s).
-RADAR_MODELS=(local_gp_mle kernel nearest linear ipbasic constant)
-LIDAR_MODELS=(local_gp_mle kernel nearest linear ipbasic constant)
+RADAR_MODELS=(local_gp_mle ground_gp kernel nearest linear ipbasic constant)
+LIDAR_MODELS=(local_gp_mle ground_gp kernel nearest linear ipbasic constant)
 LIDAR_GP_ARGS=(--max-neighbors 64)
 LIDAR_STRIDE=4
 LIDAR_SUBSAMPLE=4
-NVS_MODELS=(local_gp_mle kernel nearest constant)
+NVS_MODELS=(local_gp_mle ground_gp kernel nearest constant)
 RETENTIONS=(40 60 80 100)
 
 for tool in evaluate_depth complete_depth render_conditioning; do

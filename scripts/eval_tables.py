@@ -30,6 +30,7 @@ METRICS = ("mae", "rmse", "rmse_log", "abs_rel", "delta1", "coverage")
 SUM_KEYS = ("gt_pixels", "count", "abs_error", "sq_error", "sq_log_error", "abs_rel", "delta1")
 MODEL_NAMES = {
     "local_gp_mle": "Local GP (MLE length scale)",
+    "ground_gp": "ground_gp (this package)",
     "kernel": "Kernel regression",
     "nearest": "Nearest sample",
     "linear": "Linear (Delaunay)",
@@ -308,7 +309,7 @@ def suite_tables(suite, raw, label, truth, notes):
                   "Covered PSNR [dB]", "Coverage", "Runtime [ms]"]
         rows = []
         size = None
-        for model in ("local_gp_mle", "kernel", "nearest", "constant"):
+        for model in ("local_gp_mle", "ground_gp", "kernel", "nearest", "constant"):
             for percent in (40, 60, 80, 100):
                 base = os.path.join(nvs_dir, "%s_%d" % (model, percent))
                 if not os.path.exists(base + ".metrics.json"):
