@@ -1,5 +1,6 @@
 // The complete_depth tool on good and bad input: outputs loadable as the reference's layout, and
 // every bad input gives a clear message and exit code 1 or 2, never a crash or a signal.
+#include "../tool_runner.hpp"
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -15,19 +16,11 @@ namespace io = multimodal_nvs::io;
 
 namespace {
 
-struct RunResult {
-  int exit_code;  // -1 when killed by a signal
-  std::string output;
-};
+using multimodal_nvs::test::ToolResult;
+using RunResult = ToolResult;
 
-RunResult runTool(const std::string& args) {
-  const std::string command = std::string(MMNVS_TOOL_DIR) + "/complete_depth " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 512> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+ToolResult runTool(const std::string& args) {
+  return multimodal_nvs::test::runTool("complete_depth", args);
 }
 
 std::string dir() { return ::testing::TempDir(); }

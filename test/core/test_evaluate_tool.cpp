@@ -1,6 +1,7 @@
 // The evaluate_depth tool end to end on a tiny generated VoD-layout scene (a wall at 10 m seen by a
 // "radar" and a "LiDAR"), with exact dense ground truth, shards and LiDAR subsampling, and its
 // errors on bad input.
+#include "../tool_runner.hpp"
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -18,20 +19,11 @@ namespace io = multimodal_nvs::io;
 
 namespace {
 
-struct RunResult {
-  int exit_code;  // -1 when killed by a signal
-  std::string output;
-};
+using multimodal_nvs::test::ToolResult;
+using RunResult = ToolResult;
 
-RunResult runTool(const std::string& args) {
-  const std::string command = std::string(MMNVS_TOOL_DIR) + "/evaluate_depth " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 512> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr)
-    output += buffer.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+ToolResult runTool(const std::string& args) {
+  return multimodal_nvs::test::runTool("evaluate_depth", args);
 }
 
 std::string root() {

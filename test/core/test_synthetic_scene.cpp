@@ -1,6 +1,7 @@
 // The synthetic street: deterministic for a seed, a complete View-of-Delft layout, exact depth
 // ground truth, and radar/LiDAR returns that lie on the surfaces the camera sees within the
 // simulated noise.
+#include "../tool_runner.hpp"
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -137,21 +138,10 @@ SurfaceResidual surfaceResidual(const Eigen::Vector3d& p_sensor, const io::Kitti
   return r;
 }
 
-struct ToolResult {
-  int exit_code;
-  std::string output;
-};
+using multimodal_nvs::test::ToolResult;
 
 ToolResult runTool(const std::string& args) {
-  const std::string command =
-      std::string(MMNVS_TOOL_DIR) + "/make_synthetic_scene " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 512> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr)
-    output += buffer.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return multimodal_nvs::test::runTool("make_synthetic_scene", args);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // vod_to_bag round trip without a ROS master: a tiny synthetic scene (made here with the core),
 // converted by the tool, read back with rosbag. The bag must hold exactly the files: message
 // counts, stamps, cloud fields and bytes, image pixels, camera_info, static and moving transforms.
+#include "../tool_runner.hpp"
 #include <geometry_msgs/TransformStamped.h>
 #include <gtest/gtest.h>
 #include <rosbag/bag.h>
@@ -37,20 +38,10 @@ namespace {
 
 constexpr int kFrames = 3;
 
-struct ToolResult {
-  int exit_code;
-  std::string output;
-};
+using multimodal_nvs::test::ToolResult;
 
 ToolResult runTool(const std::string& args) {
-  const std::string command = std::string(MMNVS_TOOL_DIR) + "/vod_to_bag " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 512> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr)
-    output += buffer.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return multimodal_nvs::test::runTool("vod_to_bag", args);
 }
 
 std::string readBytes(const std::string& path) {
