@@ -180,12 +180,16 @@ stage_ros() {
     --out "$ROS_OUT" --frames $((LAST - FIRST + 1)) --sensor "$SENSOR"
 }
 
-describe_depth() { echo "complete_depth on frame $FID ($SENSOR, retain $RETAIN %)"; }
+# The package's best model (ground plane from the frame's pose); DEMO_MODEL=local_gp_mle shows the
+# reference-equivalent one.
+DEPTH_MODEL=${DEMO_MODEL:-ground_gp}
+describe_depth() { echo "complete_depth ($DEPTH_MODEL) on frame $FID ($SENSOR, retain $RETAIN %)"; }
 stage_depth() {
   require_tool complete_depth
   mkdir -p "$OUT/depth"
   "$TOOLS/complete_depth" --vod-root "$ROOT" --frame "$FIRST" --sensor "$SENSOR" \
-    --retain-percent "$RETAIN" --threads "$THREADS" --output "$DEPTH_PREFIX" --png
+    --model "$DEPTH_MODEL" --retain-percent "$RETAIN" --threads "$THREADS" \
+    --output "$DEPTH_PREFIX" --png
 }
 
 describe_render() {
