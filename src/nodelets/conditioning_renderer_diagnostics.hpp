@@ -9,6 +9,7 @@
 #include <string>
 
 #include "multimodal_nvs/ros/renderer_conversions.hpp"
+#include "periodic_diagnostics.hpp"
 
 namespace multimodal_nvs {
 
@@ -41,8 +42,7 @@ class ConditioningRendererDiagnostics {
   double keyframe_cloud_ms_ = 0.0;
   ros::WallTime window_start_;
   bool subscribed_ = false;
-  std::unique_ptr<diagnostic_updater::Updater> updater_;
-  ros::WallTimer timer_;
+  PeriodicDiagnostics publisher_;
 };
 
 }  // namespace multimodal_nvs

@@ -6,13 +6,9 @@ namespace rc = ros_conversions;
 
 void DepthCompletionDiagnostics::start(ros::NodeHandle& nh, ros::NodeHandle& private_nh,
                                        const std::string& node_name) {
-  updater_ = std::make_unique<diagnostic_updater::Updater>(nh, private_nh, node_name);
-  updater_->setHardwareID("none");
-  updater_->add("depth completion", this, &DepthCompletionDiagnostics::report);
   window_start_ = ros::WallTime::now();
-  // Wall timer: diagnostics keep flowing while a bag's simulated clock is paused.
-  timer_ = nh.createWallTimer(ros::WallDuration(0.5),
-                              [this](const ros::WallTimerEvent&) { updater_->update(); });
+  publisher_.start(nh, private_nh, node_name, "depth completion",
+                   [this](diagnostic_updater::DiagnosticStatusWrapper& status) { report(status); });
 }
 
 void DepthCompletionDiagnostics::countInput(Input input) {

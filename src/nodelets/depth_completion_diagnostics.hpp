@@ -8,6 +8,7 @@
 #include <string>
 
 #include "multimodal_nvs/ros/conversions.hpp"
+#include "periodic_diagnostics.hpp"
 
 namespace multimodal_nvs {
 
@@ -38,8 +39,7 @@ class DepthCompletionDiagnostics {
   Counts window_, total_;
   ros::WallTime window_start_;
   bool subscribed_ = false;
-  std::unique_ptr<diagnostic_updater::Updater> updater_;
-  ros::WallTimer timer_;
+  PeriodicDiagnostics publisher_;
 };
 
 }  // namespace multimodal_nvs
