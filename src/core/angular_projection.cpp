@@ -16,7 +16,8 @@ std::vector<Eigen::Vector3d> transformToCamera(const std::vector<Eigen::Vector3f
   out.reserve(points_sensor.size());
   const Eigen::Matrix3d rotation = sensor_to_camera.leftCols<3>();
   const Eigen::Vector3d translation = sensor_to_camera.col(3);
-  for (const auto& p : points_sensor) out.emplace_back(rotation * p.cast<double>() + translation);
+  for (const auto& p : points_sensor)
+    out.emplace_back(rotation * p.cast<double>() + translation);
   return out;
 }
 
@@ -73,6 +74,33 @@ PixelAngleGrid::PixelAngleGrid(const PinholeIntrinsics& intrinsics, const Stride
     row_min_elevation_[r] = min_el;
     row_max_elevation_[r] = max_el;
   }
+  // Azimuth is atan(x_n) whatever the row, but float32 rounding differs per row: envelopes over all
+  // rows, made monotone, bound every row at once.
+  column_azimuth_upper_.assign(cols, -INFINITY);
+  column_azimuth_lower_.assign(cols, INFINITY);
+  for (int r = 0; r < rows; ++r) {
+    const float* az = azimuthRow(r);
+    for (int c = 0; c < cols; ++c) {
+      column_azimuth_upper_[c] = std::max(column_azimuth_upper_[c], az[c]);
+      column_azimuth_lower_[c] = std::min(column_azimuth_lower_[c], az[c]);
+    }
+  }
+  for (int c = 1; c < cols; ++c) {
+    column_azimuth_upper_[c] = std::max(column_azimuth_upper_[c], column_azimuth_upper_[c - 1]);
+  }
+  for (int c = cols - 2; c >= 0; --c) {
+    column_azimuth_lower_[c] = std::min(column_azimuth_lower_[c], column_azimuth_lower_[c + 1]);
+  }
+}
+
+std::pair<int, int> PixelAngleGrid::columnRange(float az_low, float az_high) const {
+  // First column that some row reaches az_low in, and first column every row is past az_high in.
+  const auto first =
+      std::lower_bound(column_azimuth_upper_.begin(), column_azimuth_upper_.end(), az_low);
+  const auto last =
+      std::upper_bound(column_azimuth_lower_.begin(), column_azimuth_lower_.end(), az_high);
+  return {static_cast<int>(first - column_azimuth_upper_.begin()),
+          static_cast<int>(last - column_azimuth_lower_.begin())};
 }
 
 bool PixelAngleGrid::matches(const PinholeIntrinsics& k, const StrideGrid& grid) const {

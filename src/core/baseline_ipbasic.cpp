@@ -11,7 +11,6 @@
 namespace multimodal_nvs {
 namespace {
 
-constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
 constexpr float kEmpty = 0.1f;  // inverted values at or below this are holes
 
 /// Odd kernel size for a published size `published` scaled by `scale` (at least 3).

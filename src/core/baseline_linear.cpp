@@ -12,8 +12,6 @@
 namespace multimodal_nvs {
 namespace {
 
-constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
-
 struct Triangle {
   double az[3], el[3], z[3];
   double det;  // (p1 - p0) x (p2 - p0)

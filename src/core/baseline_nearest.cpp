@@ -12,8 +12,6 @@
 namespace multimodal_nvs {
 namespace {
 
-constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
-
 /// Samples bucketed into square bins of side `bin` (degrees) covering a bounding box.
 class AngularBins {
  public:

@@ -65,6 +65,37 @@ std::size_t countInView(const std::vector<Eigen::Vector3d>& points, const Pinhol
   }
   return count;
 }
+
+// The passes below are separate functions with restrict pointers: inside the lambdas the byte
+// stores may alias the captured sizes and pointers, and GCC then keeps them scalar (measured 12% of
+// the kernel model's time before).
+
+/// candidate[i] = finite variance <= threshold and finite mean; returns the count of finite
+/// variances (pixels the model predicted). Branch-free (bitwise &) so that it vectorises.
+long long markCandidates(const float* __restrict mean, const float* __restrict variance,
+                         std::size_t count, float threshold, std::uint8_t* __restrict candidate) {
+  long long predicted = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const float v = variance[i], m = mean[i];
+    const bool finite_v = std::abs(v) <= std::numeric_limits<float>::max();
+    const bool finite_m = std::abs(m) <= std::numeric_limits<float>::max();
+    predicted += finite_v;
+    candidate[i] = finite_v & (v <= threshold) & finite_m;
+  }
+  return predicted;
+}
+
+/// depth = -1 where not kept (the reference's invalid value); returns the kept count.
+long long maskDepth(const std::uint8_t* __restrict valid, std::size_t count,
+                    float* __restrict depth) {
+  long long kept = 0;
+  for (std::size_t i = 0; i < count; ++i) {
+    depth[i] = valid[i] ? depth[i] : -1.0f;
+    kept += valid[i];
+  }
+  return kept;
+}
+
 }  // namespace
 
 DepthMap DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
@@ -121,52 +152,45 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
     }
   }
 
-  // Valid as the reference defines it, then retention among the valid pixels.
+  // Valid as the reference defines it, then retention among the valid pixels. Full-image passes
+  // are split into chunks whose counts are summed afterwards (deterministic for any thread count).
   const std::size_t n = static_cast<std::size_t>(grid.size());
   const bool retention = params.retain_percent < 100.0;
-  std::vector<std::uint8_t>& candidate = retention ? candidate_ : out.valid;
-  candidate.resize(n);
+  out.valid.resize(n);
+  if (retention) candidate_.resize(n);
   const float threshold = static_cast<float>(params.var_threshold);
-  // Full-image passes split into chunks; per-chunk counts are summed afterwards (deterministic).
   constexpr std::size_t kChunk = 1 << 16;
   const long long chunks = static_cast<long long>((n + kChunk - 1) / kChunk);
-  std::vector<long long> chunk_count(chunks, 0);
+  std::vector<long long> predicted_in_chunk(chunks, 0), kept_in_chunk(chunks, 0);
+  float* const depth = prediction.mean.data();
+  const float* const variance = prediction.variance.data();
+  std::uint8_t* const valid = out.valid.data();
+  std::uint8_t* const candidate = retention ? candidate_.data() : valid;
   pool_->parallelFor(chunks, [&](long long c, int) {
-    // Branch-free (bitwise &, not &&) so that the loop vectorises.
-    long long predicted = 0;
-    const float* variance = prediction.variance.data();
-    const float* mean = prediction.mean.data();
-    std::uint8_t* is_candidate = candidate.data();
-    for (std::size_t i = c * kChunk; i < std::min<std::size_t>(n, (c + 1) * kChunk); ++i) {
-      const float v = variance[i], m = mean[i];
-      const bool finite_v = std::abs(v) <= std::numeric_limits<float>::max();
-      const bool finite_m = std::abs(m) <= std::numeric_limits<float>::max();
-      predicted += finite_v;
-      is_candidate[i] = finite_v & (v <= threshold) & finite_m;
-    }
-    chunk_count[c] = predicted;
+    const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
+    const std::size_t count = std::min(n, begin + kChunk) - begin;
+    predicted_in_chunk[c] =
+        markCandidates(depth + begin, variance + begin, count, threshold, candidate + begin);
+    // Without retention every candidate is kept: the masking pass runs on data still in cache.
+    if (!retention) kept_in_chunk[c] = maskDepth(valid + begin, count, depth + begin);
   });
-  stats.predicted = 0;
-  for (long long c : chunk_count) stats.predicted += c;
   if (retention) {
-    out.valid.resize(n);
-    keepLowestVariance(prediction.variance.data(), candidate.data(), n,
-                       retentionCount(params.retain_percent, grid.size()), out.valid.data());
+    keepLowestVariance(variance, candidate, n, retentionCount(params.retain_percent, grid.size()),
+                       valid);
+    pool_->parallelFor(chunks, [&](long long c, int) {
+      const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
+      kept_in_chunk[c] =
+          maskDepth(valid + begin, std::min(n, begin + kChunk) - begin, depth + begin);
+    });
   }
   out.depth.swap(prediction.mean);
   out.variance.swap(prediction.variance);
-  pool_->parallelFor(chunks, [&](long long c, int) {
-    long long kept = 0;
-    float* depth = out.depth.data();
-    const std::uint8_t* valid = out.valid.data();
-    for (std::size_t i = c * kChunk; i < std::min<std::size_t>(n, (c + 1) * kChunk); ++i) {
-      depth[i] = valid[i] ? depth[i] : -1.0f;
-      kept += valid[i];
-    }
-    chunk_count[c] = kept;
-  });
+  stats.predicted = 0;
   stats.kept = 0;
-  for (long long c : chunk_count) stats.kept += c;
+  for (long long c = 0; c < chunks; ++c) {
+    stats.predicted += predicted_in_chunk[c];
+    stats.kept += kept_in_chunk[c];
+  }
   stats.pixels = grid.size();
   stats.compute_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -1,6 +1,7 @@
 #include "multimodal_nvs/core/depth_models.hpp"
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -9,18 +10,19 @@
 #include "multimodal_nvs/core/reference_arithmetic.hpp"
 
 namespace multimodal_nvs {
-namespace {
-
-constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
-
-void resizePredictions(const PixelAngleGrid& angles, PixelPredictions& out, float mean,
-                       float variance) {
+void fillPredictions(const PixelAngleGrid& angles, float mean, float variance, ThreadPool& pool,
+                     PixelPredictions& out) {
   const std::size_t n = static_cast<std::size_t>(angles.grid().size());
-  out.mean.assign(n, mean);
-  out.variance.assign(n, variance);
+  out.mean.resize(n);
+  out.variance.resize(n);
+  constexpr std::size_t kChunk = 1 << 16;
+  pool.parallelFor(static_cast<long long>((n + kChunk - 1) / kChunk), [&](long long chunk, int) {
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
+    const std::size_t end = std::min(n, begin + kChunk);
+    std::fill(out.mean.begin() + begin, out.mean.begin() + end, mean);
+    std::fill(out.variance.begin() + begin, out.variance.begin() + end, variance);
+  });
 }
-
-}  // namespace
 
 std::vector<double> shiftedTargets(const std::vector<AngularSample>& samples, double shift) {
   std::vector<double> y(samples.size());
@@ -41,8 +43,8 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
                     const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
                     PixelPredictions& out) {
   const LocalGpParams& gp = params.gp;
-  resizePredictions(angles, out, static_cast<float>(prior.constant),
-                    static_cast<float>(gp.priorVariance()));
+  fillPredictions(angles, static_cast<float>(prior.constant),
+                  static_cast<float>(gp.priorVariance()), pool, out);
   if (prior.per_pixel != nullptr) out.mean = *prior.per_pixel;
 
   // Storage for every set's posterior, laid out by prefix sums so sets can be solved in parallel.
@@ -179,68 +181,6 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
       if (prior.per_pixel != nullptr) {
         for (std::size_t p = pixel; p < pixel + (seg.col_end - seg.col_begin); ++p) {
           out.mean[p] += (*prior.per_pixel)[p];
-        }
-      }
-    }
-  }, 4);
-}
-
-void predictKernel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                   const NeighbourSets& sets, const DepthCompletionParams& params, double shift,
-                   ThreadPool& pool, PixelPredictions& out) {
-  resizePredictions(angles, out, std::numeric_limits<float>::quiet_NaN(), kNoPrediction);
-  const std::vector<double> targets = shiftedTargets(samples, shift);
-  // float32 weights exactly as the reference forms them: exp((-0.5 * d2) / ls^2).
-  const float ls2 = static_cast<float>(params.kernel_length_scale_deg *
-                                       params.kernel_length_scale_deg);
-  const float shift32 = static_cast<float>(shift);
-  const int cols = angles.grid().cols();
-  constexpr int kBlock = 64;
-
-  pool.parallelFor(angles.grid().rows(), [&](long long row_index, int) {
-    const int row = static_cast<int>(row_index);
-    const float* az = angles.azimuthRow(row);
-    const float* el = angles.elevationRow(row);
-    SimdVector<float> weights;
-    for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
-      const NeighbourSegment& seg = sets.segments()[k];
-      const int n = sets.setSize(seg.set_id);
-      const int* members = sets.members(seg.set_id);
-      for (int c0 = seg.col_begin; c0 < seg.col_end; c0 += kBlock) {
-        const int m = std::min(kBlock, seg.col_end - c0);
-        // Exponents of the whole n x m block first, then one vectorised exp over all of them.
-        // Padded to whole 16-float packets: Eigen's exp then never falls back to scalar expf.
-        const std::size_t padded = (std::size_t(n) * m + 15) & ~std::size_t(15);
-        weights.resize(padded, 0.0f);
-        for (int i = 0; i < n; ++i) {
-          const AngularSample& s = samples[members[i]];
-          float* w = weights.data() + std::size_t(i) * m;
-          for (int p = 0; p < m; ++p) {
-            const float da = az[c0 + p] - s.azimuth_deg;
-            const float de = el[c0 + p] - s.elevation_deg;
-            const float d2 = da * da + de * de;
-            w[p] = (-0.5f * d2) / ls2;
-          }
-        }
-        Eigen::Map<Eigen::ArrayXf> block(weights.data(), padded);
-        block = block.exp();
-        double sum_w[kBlock] = {0.0}, sum_wy[kBlock] = {0.0}, sum_wyy[kBlock] = {0.0};
-        for (int i = 0; i < n; ++i) {
-          const float* w = weights.data() + std::size_t(i) * m;
-          const double y = targets[members[i]];
-          for (int p = 0; p < m; ++p) {
-            sum_w[p] += w[p];
-            sum_wy[p] += w[p] * y;
-            sum_wyy[p] += w[p] * y * y;
-          }
-        }
-        const std::size_t pixel = std::size_t(row) * cols + c0;
-        for (int p = 0; p < m; ++p) {
-          if (!(sum_w[p] > 0.0)) continue;
-          const double mean = sum_wy[p] / sum_w[p];
-          const double var = sum_wyy[p] / sum_w[p] - mean * mean;
-          out.mean[pixel + p] = static_cast<float>(mean) + shift32;
-          out.variance[pixel + p] = static_cast<float>(var < 0.0 ? 0.0 : var);
         }
       }
     }

@@ -14,41 +14,80 @@ namespace {
 constexpr float kSearchMarginDeg = 1e-3f;
 
 // Sets found by one worker, deduplicated by a Zobrist hash (XOR of one random word per member,
-// updated in O(1) per circle crossing) and confirmed by comparing members.
-struct LocalSetTable {
-  std::unordered_multimap<std::uint64_t, int> by_hash;
+// updated in O(1) per circle crossing) and confirmed by comparing members. An open-addressing table
+// (linear probing, at most half full): std::unordered_multimap's node allocations were most of the
+// interning time.
+class LocalSetTable {
+ public:
   std::vector<int> offsets{0};
   std::vector<int> members;
 
-  int intern(std::uint64_t hash, const std::vector<int>& set) {
-    auto range = by_hash.equal_range(hash);
-    for (auto it = range.first; it != range.second; ++it) {
-      const int id = it->second;
-      const int size = offsets[id + 1] - offsets[id];
-      if (size == static_cast<int>(set.size()) &&
-          std::equal(set.begin(), set.end(), members.begin() + offsets[id])) {
+  int intern(std::uint64_t hash, const int* set, int size) {
+    if (2 * (count_ + 1) > slot_id_.size()) grow();
+    std::size_t slot = hash & mask_;
+    for (; slot_id_[slot] >= 0; slot = (slot + 1) & mask_) {
+      const int id = slot_id_[slot];
+      if (slot_hash_[slot] == hash && offsets[id + 1] - offsets[id] == size &&
+          std::equal(set, set + size, members.begin() + offsets[id])) {
         return id;
       }
     }
     const int id = static_cast<int>(offsets.size()) - 1;
-    members.insert(members.end(), set.begin(), set.end());
+    members.insert(members.end(), set, set + size);
     offsets.push_back(static_cast<int>(members.size()));
-    by_hash.emplace(hash, id);
+    slot_hash_[slot] = hash;
+    slot_id_[slot] = id;
+    ++count_;
     return id;
   }
+
+ private:
+  void grow() {
+    const std::size_t capacity = std::max<std::size_t>(1024, 2 * slot_id_.size());
+    std::vector<std::uint64_t> old_hash(capacity, 0);
+    std::vector<int> old_id(capacity, -1);
+    old_hash.swap(slot_hash_);
+    old_id.swap(slot_id_);
+    mask_ = capacity - 1;
+    for (std::size_t i = 0; i < old_id.size(); ++i) {
+      if (old_id[i] < 0) continue;
+      std::size_t slot = old_hash[i] & mask_;
+      while (slot_id_[slot] >= 0)
+        slot = (slot + 1) & mask_;
+      slot_hash_[slot] = old_hash[i];
+      slot_id_[slot] = old_id[i];
+    }
+  }
+
+  std::vector<std::uint64_t> slot_hash_;
+  std::vector<int> slot_id_;  // -1: empty
+  std::size_t mask_ = 0;
+  std::size_t count_ = 0;
 };
 
 // Separate function with restrict pointers: without them the byte stores may alias the float
 // loads and GCC keeps the loop scalar (measured 3x slower).
 void markWithinRadius(const float* __restrict az, const float* __restrict el, int count, float saz,
                       float sel, float radius_sq, std::uint8_t* __restrict inside) {
-  for (int c = 0; c < count; ++c) inside[c] = withinRadius(az[c], el[c], saz, sel, radius_sq);
+  for (int c = 0; c < count; ++c)
+    inside[c] = withinRadius(az[c], el[c], saz, sel, radius_sq);
+}
+
+// A crossing packed as column << 32 | sample, so that sorting compares one integer.
+std::uint64_t packCrossing(int column, int sample) {
+  return (static_cast<std::uint64_t>(column) << 32) | static_cast<std::uint32_t>(sample);
+}
+int crossingColumn(std::uint64_t crossing) {
+  return static_cast<int>(crossing >> 32);
+}
+int crossingSample(std::uint64_t crossing) {
+  return static_cast<int>(crossing & 0xffffffffu);
 }
 
 struct RowScratch {
-  std::vector<std::pair<int, int>> crossings;  // (column, sample) where membership toggles
-  std::vector<int> current;                    // sorted members at the sweep position
-  std::vector<std::uint8_t> inside;            // membership over one sample's column window
+  std::vector<std::uint64_t> crossings;  // where membership toggles, packed by packCrossing
+  std::vector<int> current;              // sorted members at the sweep position
+  std::vector<std::uint8_t> inside;      // membership over one sample's column window
 };
 
 struct RowResult {
@@ -60,10 +99,8 @@ struct RowResult {
 }  // namespace
 
 NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
-                                   const PixelAngleGrid& grid, float radius_deg,
-                                   ThreadPool& pool) {
+                                   const PixelAngleGrid& grid, float radius_deg, ThreadPool& pool) {
   const int rows = grid.grid().rows();
-  const int cols = grid.grid().cols();
   const float radius_sq = radius_deg * radius_deg;
   const float reach = radius_deg + kSearchMarginDeg;
 
@@ -78,9 +115,16 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
   for (std::size_t i = 0; i < by_elevation.size(); ++i) {
     sorted_elevation[i] = samples[by_elevation[i]].elevation_deg;
   }
+  // Every row's azimuth window of a sample is the same up to rounding: found once per sample.
+  std::vector<std::pair<int, int>> column_window(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const float saz = samples[i].azimuth_deg;
+    column_window[i] = grid.columnRange(saz - reach, saz + reach);
+  }
   std::vector<std::uint64_t> zobrist(samples.size());
   std::mt19937_64 rng(0x6d6d6e7673ULL);
-  for (auto& z : zobrist) z = rng();
+  for (auto& z : zobrist)
+    z = rng();
 
   std::vector<LocalSetTable> tables(pool.size());
   std::vector<RowScratch> scratch(pool.size());
@@ -96,17 +140,14 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
     const float* el = grid.elevationRow(row);
     const auto first = std::lower_bound(sorted_elevation.begin(), sorted_elevation.end(),
                                         grid.minElevation(row) - reach);
-    const auto last = std::upper_bound(first, sorted_elevation.end(),
-                                       grid.maxElevation(row) + reach);
+    const auto last =
+        std::upper_bound(first, sorted_elevation.end(), grid.maxElevation(row) + reach);
     for (auto it = first; it != last; ++it) {
       const int sample = by_elevation[it - sorted_elevation.begin()];
       const float saz = samples[sample].azimuth_deg;
       const float sel = samples[sample].elevation_deg;
-      // Azimuth grows along a row; one column of slack covers float32 non-monotonicity.
-      int c0 = static_cast<int>(std::lower_bound(az, az + cols, saz - reach) - az) - 1;
-      int c1 = static_cast<int>(std::upper_bound(az, az + cols, saz + reach) - az) + 1;
-      c0 = std::max(c0, 0);
-      c1 = std::min(c1, cols);
+      const int c0 = column_window[sample].first;
+      const int c1 = column_window[sample].second;
       // The exact test over the window in a branch-free (vectorised) loop, then the toggles.
       if (c1 <= c0) continue;
       s.inside.resize(c1 - c0 + 1);
@@ -117,8 +158,8 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
       const std::uint8_t* end = inside + (c1 - c0);
       while ((p = static_cast<const std::uint8_t*>(std::memchr(p, 1, end - p))) != nullptr) {
         const std::uint8_t* q = static_cast<const std::uint8_t*>(std::memchr(p, 0, end + 1 - p));
-        s.crossings.emplace_back(c0 + static_cast<int>(p - inside), sample);
-        s.crossings.emplace_back(c0 + static_cast<int>(q - inside), sample);
+        s.crossings.push_back(packCrossing(c0 + static_cast<int>(p - inside), sample));
+        s.crossings.push_back(packCrossing(c0 + static_cast<int>(q - inside), sample));
         if (q >= end) break;
         p = q;
       }
@@ -131,13 +172,14 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
     int position = 0;
     std::size_t i = 0;
     while (i < s.crossings.size()) {
-      const int column = s.crossings[i].first;
+      const int column = crossingColumn(s.crossings[i]);
       if (column > position && !s.current.empty()) {
-        const int id = tables[worker].intern(hash, s.current);
+        const int id =
+            tables[worker].intern(hash, s.current.data(), static_cast<int>(s.current.size()));
         result.segments.push_back({row, position, column, id});
       }
-      for (; i < s.crossings.size() && s.crossings[i].first == column; ++i) {
-        const int sample = s.crossings[i].second;
+      for (; i < s.crossings.size() && crossingColumn(s.crossings[i]) == column; ++i) {
+        const int sample = crossingSample(s.crossings[i]);
         auto pos = std::lower_bound(s.current.begin(), s.current.end(), sample);
         if (pos != s.current.end() && *pos == sample) {
           s.current.erase(pos);
@@ -156,15 +198,16 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
   std::vector<std::vector<int>> global_id(tables.size());
   {
     LocalSetTable merged;
-    std::vector<int> set;
     for (std::size_t w = 0; w < tables.size(); ++w) {
       const LocalSetTable& t = tables[w];
       global_id[w].resize(t.offsets.size() - 1);
       for (std::size_t id = 0; id + 1 < t.offsets.size(); ++id) {
-        set.assign(t.members.begin() + t.offsets[id], t.members.begin() + t.offsets[id + 1]);
+        const int* set = t.members.data() + t.offsets[id];
+        const int size = t.offsets[id + 1] - t.offsets[id];
         std::uint64_t hash = 0;
-        for (int m : set) hash ^= zobrist[m];
-        global_id[w][id] = merged.intern(hash, set);
+        for (int k = 0; k < size; ++k)
+          hash ^= zobrist[set[k]];
+        global_id[w][id] = merged.intern(hash, set, size);
       }
     }
     out.offsets_ = std::move(merged.offsets);
@@ -172,7 +215,8 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
   }
   out.row_offsets_.assign(rows + 1, 0);
   std::size_t total = 0;
-  for (int r = 0; r < rows; ++r) total += row_results[r].segments.size();
+  for (int r = 0; r < rows; ++r)
+    total += row_results[r].segments.size();
   out.segments_.reserve(total);
   for (int r = 0; r < rows; ++r) {
     out.row_offsets_[r] = out.segments_.size();

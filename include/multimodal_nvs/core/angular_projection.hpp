@@ -1,6 +1,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "multimodal_nvs/core/camera.hpp"
@@ -26,8 +27,8 @@ std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& 
 std::vector<Eigen::Vector3d> transformToCamera(const std::vector<Eigen::Vector3f>& points_sensor,
                                                const SensorToCamera& sensor_to_camera);
 
-/// Output raster: pixel centres u = 0, s, 2s, ... and v = 0, s, 2s, ... of the full image (no +0.5),
-/// shape ceil(H/s) x ceil(W/s); intrinsics are not rescaled.
+/// Output raster: pixel centres u = 0, s, 2s, ... and v = 0, s, 2s, ... of the full image (no
+/// +0.5), shape ceil(H/s) x ceil(W/s); intrinsics are not rescaled.
 struct StrideGrid {
   ImageSize image;
   int stride = 1;
@@ -47,12 +48,18 @@ class PixelAngleGrid {
 
   const StrideGrid& grid() const { return grid_; }
   const PinholeIntrinsics& intrinsics() const { return intrinsics_; }
-  const float* azimuthRow(int row) const { return azimuth_.data() + std::size_t(row) * grid_.cols(); }
+  const float* azimuthRow(int row) const {
+    return azimuth_.data() + std::size_t(row) * grid_.cols();
+  }
   const float* elevationRow(int row) const {
     return elevation_.data() + std::size_t(row) * grid_.cols();
   }
   float minElevation(int row) const { return row_min_elevation_[row]; }
   float maxElevation(int row) const { return row_max_elevation_[row]; }
+  /// Columns [first, second) outside of which every row's azimuth is below `az_low` or above
+  /// `az_high`. Exact for the float32 grid (monotone envelopes over all rows), so a search by
+  /// azimuth needs one lookup per sample instead of one per sample and row.
+  std::pair<int, int> columnRange(float az_low, float az_high) const;
   bool matches(const PinholeIntrinsics& intrinsics, const StrideGrid& grid) const;
 
  private:
@@ -62,6 +69,8 @@ class PixelAngleGrid {
   std::vector<float> elevation_;
   std::vector<float> row_min_elevation_;
   std::vector<float> row_max_elevation_;
+  std::vector<float> column_azimuth_upper_;  // max over rows and columns <= c (non-decreasing)
+  std::vector<float> column_azimuth_lower_;  // min over rows and columns >= c (non-decreasing)
 };
 
 }  // namespace multimodal_nvs

@@ -1,4 +1,5 @@
 #pragma once
+#include <limits>
 #include <vector>
 
 #include "multimodal_nvs/core/angular_projection.hpp"
@@ -13,6 +14,14 @@ struct PixelPredictions {
   std::vector<float> mean;
   std::vector<float> variance;
 };
+
+/// Variance of a pixel that got no prediction.
+constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
+
+/// Sizes `out` to the grid and sets every pixel to (mean, variance), in parallel: the buffers are
+/// reused across frames, so this is one full-image pass shared by both cores, not an allocation.
+void fillPredictions(const PixelAngleGrid& angles, float mean, float variance, ThreadPool& pool,
+                     PixelPredictions& out);
 
 /// The GP's prior mean: a constant (the reference's shift) or one value per grid pixel.
 struct PriorMean {
@@ -33,7 +42,8 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
                     const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
                     PixelPredictions& out);
 
-/// Gaussian kernel regression within the radius (reference `kernel`); no neighbour: no prediction.
+/// Gaussian kernel regression within the radius (reference `kernel`, kernel_regression.cpp); no
+/// neighbour: no prediction.
 void predictKernel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                    const NeighbourSets& sets, const DepthCompletionParams& params, double shift,
                    ThreadPool& pool, PixelPredictions& out);
