@@ -176,7 +176,7 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   });
   if (retention) {
     keepLowestVariance(variance, candidate, n, retentionCount(params.retain_percent, grid.size()),
-                       valid);
+                       valid, pool_.get());
     pool_->parallelFor(chunks, [&](long long c, int) {
       const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
       kept_in_chunk[c] =
