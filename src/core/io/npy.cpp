@@ -1,5 +1,6 @@
 #include "multimodal_nvs/core/io/npy.hpp"
 
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -26,7 +27,8 @@ std::string dictValue(const std::string& header, const std::string& key, const s
   std::size_t p = header.find(':', k + quoted.size());
   if (p == std::string::npos) throw InputError(src + ": malformed .npy header");
   ++p;
-  while (p < header.size() && header[p] == ' ') ++p;
+  while (p < header.size() && header[p] == ' ')
+    ++p;
   if (p >= header.size()) throw InputError(src + ": malformed .npy header");
   const char open = header[p];
   const char close = open == '\'' ? '\'' : open == '(' ? ')' : ',';
@@ -40,7 +42,8 @@ std::string dictValue(const std::string& header, const std::string& key, const s
 
 std::size_t NpyArray::elementCount() const {
   std::size_t n = 1;
-  for (std::size_t d : shape) n *= d;
+  for (std::size_t d : shape)
+    n *= d;
   return n;
 }
 
@@ -104,9 +107,14 @@ NpyArray parseNpy(const std::string& bytes, const std::string& src) {
   while (std::getline(shape, dim, ',')) {
     const std::size_t first = dim.find_first_not_of(' ');
     if (first == std::string::npos) continue;
+    // strtoull would read "-1" as 2^64 - 1 and saturate on overflow: digits only, in range.
+    const char* digits = dim.c_str() + first;
     char* end = nullptr;
-    const unsigned long long v = std::strtoull(dim.c_str() + first, &end, 10);
-    if (end == dim.c_str() + first) throw InputError(src + ": bad .npy shape '" + dim + "'");
+    errno = 0;
+    const unsigned long long v = std::strtoull(digits, &end, 10);
+    if (*digits < '0' || *digits > '9' || errno == ERANGE) {
+      throw InputError(src + ": bad .npy shape '" + dim + "'");
+    }
     if (v != 0 && count > std::numeric_limits<std::size_t>::max() / v) {
       throw InputError(src + ": .npy shape overflows");
     }
@@ -116,8 +124,9 @@ NpyArray parseNpy(const std::string& bytes, const std::string& src) {
   const std::size_t data_start = header_start + header_len;
   const std::size_t item = itemSize(a.dtype);
   if (count > (bytes.size() - data_start) / item) {
-    throw InputError(src + ": .npy data is truncated (" + std::to_string(bytes.size() - data_start) +
-                     " bytes for " + std::to_string(count) + " elements)");
+    throw InputError(src + ": .npy data is truncated (" +
+                     std::to_string(bytes.size() - data_start) + " bytes for " +
+                     std::to_string(count) + " elements)");
   }
   a.data.assign(bytes.begin() + data_start, bytes.begin() + data_start + count * item);
   return a;
@@ -163,7 +172,8 @@ void writeRaw(const std::string& path, const std::string& dtype, const void* dat
 }
 std::size_t product(const std::vector<std::size_t>& shape) {
   std::size_t n = 1;
-  for (auto d : shape) n *= d;
+  for (auto d : shape)
+    n *= d;
   return n;
 }
 }  // namespace

@@ -1,5 +1,6 @@
 #include "multimodal_nvs/core/io/point_files.hpp"
 
+#include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <limits>
@@ -62,14 +63,25 @@ int floatsPerRecord(PointFormat format) {
   return 0;
 }
 
-std::vector<Eigen::Vector3f> parseFloatRecords(const std::string& bytes, int floats_per_record,
-                                               const std::string& source) {
+namespace {
+
+/// Bytes per record; throws InputError unless `bytes` holds whole records.
+std::size_t checkRecordSize(const std::string& bytes, int floats_per_record,
+                            const std::string& source) {
   const std::size_t record = sizeof(float) * floats_per_record;
   if (bytes.size() % record != 0) {
     throw InputError(source + ": size " + std::to_string(bytes.size()) +
                      " bytes is not a multiple of the " + std::to_string(record) +
                      "-byte record (" + std::to_string(floats_per_record) + " float32)");
   }
+  return record;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector3f> parseFloatRecords(const std::string& bytes, int floats_per_record,
+                                               const std::string& source) {
+  const std::size_t record = checkRecordSize(bytes, floats_per_record, source);
   const std::size_t count = bytes.size() / record;
   std::vector<Eigen::Vector3f> points(count);
   for (std::size_t i = 0; i < count; ++i) {
@@ -91,45 +103,59 @@ std::vector<Eigen::Vector3f> parsePcd(const std::string& bytes, const std::strin
     std::string key;
     if (!(line >> key) || key[0] == '#') continue;
     std::vector<std::string> values;
-    for (std::string v; line >> v;) values.push_back(v);
-    auto asCount = [&](const std::string& v) -> std::size_t {
+    for (std::string v; line >> v;)
+      values.push_back(v);
+    // strtoull would accept "-1" as 2^64 - 1 and saturate on overflow: digits only, in range.
+    auto asCount = [&](const std::string& v, std::size_t max) -> std::size_t {
       char* end = nullptr;
+      errno = 0;
       const unsigned long long n = std::strtoull(v.c_str(), &end, 10);
-      if (end == v.c_str() || *end != '\0') throw InputError(source + ": bad PCD " + key + " '" + v + "'");
+      if (v[0] < '0' || v[0] > '9' || *end != '\0' || errno == ERANGE || n > max)
+        throw InputError(source + ": bad PCD " + key + " '" + v + "'");
       return n;
     };
+    constexpr std::size_t kAny = std::numeric_limits<std::size_t>::max();
+    constexpr std::size_t kInt = std::numeric_limits<int>::max();
     if (key == "FIELDS") {
       fields.resize(values.size());
-      for (std::size_t i = 0; i < values.size(); ++i) fields[i].name = values[i];
+      for (std::size_t i = 0; i < values.size(); ++i)
+        fields[i].name = values[i];
     } else if (key == "SIZE" || key == "TYPE" || key == "COUNT") {
       if (values.size() != fields.size()) {
         throw InputError(source + ": PCD " + key + " has " + std::to_string(values.size()) +
                          " entries for " + std::to_string(fields.size()) + " fields");
       }
       for (std::size_t i = 0; i < values.size(); ++i) {
-        if (key == "SIZE") fields[i].size = static_cast<int>(asCount(values[i]));
+        if (key == "SIZE") fields[i].size = static_cast<int>(asCount(values[i], kInt));
         if (key == "TYPE") fields[i].type = values[i].empty() ? '?' : values[i][0];
-        if (key == "COUNT") fields[i].count = static_cast<int>(asCount(values[i]));
+        if (key == "COUNT") fields[i].count = static_cast<int>(asCount(values[i], kInt));
       }
     } else if (key == "WIDTH" && !values.empty()) {
-      width = asCount(values[0]);
+      width = asCount(values[0], kAny);
     } else if (key == "HEIGHT" && !values.empty()) {
-      height = asCount(values[0]);
+      height = asCount(values[0], kAny);
     } else if (key == "POINTS" && !values.empty()) {
-      points = asCount(values[0]);
+      points = asCount(values[0], kAny);
     } else if (key == "DATA") {
       data_kind = values.empty() ? "?" : values[0];
     }
   }
   if (data_kind.empty()) throw InputError(source + ": PCD header has no DATA line");
-  if (points == std::numeric_limits<std::size_t>::max()) points = width * height;
+  if (points == std::numeric_limits<std::size_t>::max()) {
+    if (height != 0 && width > std::numeric_limits<std::size_t>::max() / height) {
+      throw InputError(source + ": PCD WIDTH * HEIGHT overflows");
+    }
+    points = width * height;
+  }
   int xyz[3] = {-1, -1, -1};
   std::size_t stride = 0;
-  int column = 0;
-  std::vector<int> first_column(fields.size());
+  // Sums of COUNT: each fits in int, their sum may not.
+  std::size_t column = 0;
+  std::vector<std::size_t> first_column(fields.size());
   for (std::size_t i = 0; i < fields.size(); ++i) {
     PcdField& f = fields[i];
-    if (f.size <= 0 || f.count <= 0 || f.size > 8) throw InputError(source + ": bad PCD field " + f.name);
+    if (f.size <= 0 || f.count <= 0 || f.size > 8)
+      throw InputError(source + ": bad PCD field " + f.name);
     f.offset = stride;
     first_column[i] = column;
     stride += std::size_t(f.size) * f.count;
@@ -151,9 +177,10 @@ std::vector<Eigen::Vector3f> parsePcd(const std::string& bytes, const std::strin
     while (out.size() < points && std::getline(body, line)) {
       std::istringstream values(line);
       std::vector<double> row;
-      for (std::string v; values >> v;) row.push_back(std::strtod(v.c_str(), nullptr));
+      for (std::string v; values >> v;)
+        row.push_back(std::strtod(v.c_str(), nullptr));
       if (row.empty()) continue;
-      if (row.size() < static_cast<std::size_t>(column)) {
+      if (row.size() < column) {
         throw InputError(source + ": PCD ascii row " + std::to_string(out.size()) + " is short");
       }
       out.emplace_back(row[first_column[xyz[0]]], row[first_column[xyz[1]]],
@@ -184,16 +211,17 @@ std::vector<Eigen::Vector3f> readPoints(const std::string& path, PointFormat for
   return parseFloatRecords(bytes, floatsPerRecord(format), path);
 }
 
-std::vector<float> readFloatRecords(const std::string& path, int floats_per_record) {
-  const std::string bytes = readAll(path);
-  const std::size_t record = sizeof(float) * floats_per_record;
-  if (bytes.size() % record != 0) {
-    throw InputError(path + ": size " + std::to_string(bytes.size()) +
-                     " bytes is not a multiple of the " + std::to_string(record) + "-byte record");
-  }
+std::vector<float> parseFloatRecordValues(const std::string& bytes, int floats_per_record,
+                                          const std::string& source) {
+  checkRecordSize(bytes, floats_per_record, source);
   std::vector<float> values(bytes.size() / sizeof(float));
-  std::memcpy(values.data(), bytes.data(), bytes.size());
+  // An empty file leaves values.data() null, which memcpy must not get even for 0 bytes.
+  if (!values.empty()) std::memcpy(values.data(), bytes.data(), bytes.size());
   return values;
+}
+
+std::vector<float> readFloatRecords(const std::string& path, int floats_per_record) {
+  return parseFloatRecordValues(readAll(path), floats_per_record, path);
 }
 
 void writeFloatRecords(const std::string& path, const std::vector<float>& values) {

@@ -135,6 +135,7 @@ class PoseJsonReader {
       return false;
     }
     if (c == '[') {
+      const NestingGuard guard(*this);
       ++pos_;
       bool all_numbers = true;
       if (peek(']')) {
@@ -166,6 +167,7 @@ class PoseJsonReader {
   }
 
   void readObject(std::vector<PoseEntry>& entries) {
+    const NestingGuard guard(*this);
     expect('{');
     if (peek('}')) {
       ++pos_;
@@ -187,9 +189,26 @@ class PoseJsonReader {
     }
   }
 
+  // Values nest by recursion: without a limit, a file of many '[' overflows the stack instead of
+  // raising InputError. Pose files nest two levels; 64 leaves room for any metadata.
+  static constexpr int kMaxNesting = 64;
+  struct NestingGuard {
+    explicit NestingGuard(PoseJsonReader& reader) : reader_(reader) {
+      if (reader_.nesting_ == kMaxNesting) {
+        reader_.fail("nested deeper than " + std::to_string(kMaxNesting) + " levels");
+      }
+      ++reader_.nesting_;
+    }
+    ~NestingGuard() { --reader_.nesting_; }
+    NestingGuard(const NestingGuard&) = delete;
+    NestingGuard& operator=(const NestingGuard&) = delete;
+    PoseJsonReader& reader_;
+  };
+
   const std::string& text_;
   const std::string& source_;
   std::size_t pos_ = 0;
+  int nesting_ = 0;
 };
 
 void checkRigid(const Eigen::Matrix4d& m, const std::string& where) {
@@ -202,7 +221,8 @@ void checkRigid(const Eigen::Matrix4d& m, const std::string& where) {
   // scaled or sheared matrices, which SLERP would silently turn into something else.
   const double error = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (error > 1e-4 || r.determinant() < 0.0) {
-    throw InputError(where + ": rotation part is not orthonormal with determinant +1 (|R^T R - I| = " +
+    throw InputError(where +
+                     ": rotation part is not orthonormal with determinant +1 (|R^T R - I| = " +
                      std::to_string(error) + ")");
   }
 }
@@ -233,14 +253,14 @@ Eigen::Matrix4d parseVodPose(const std::string& text, const std::string& key,
   const std::string where = source + ": '" + key + "'";
   if (!found->numeric_array || found->numbers.size() != 16) {
     throw InputError(where + " must be an array of 16 numbers (row-major 4x4)" +
-                     (found->numeric_array
-                          ? ", found " + std::to_string(found->numbers.size())
-                          : std::string()));
+                     (found->numeric_array ? ", found " + std::to_string(found->numbers.size())
+                                           : std::string()));
   }
   Eigen::Matrix4d m;
   for (int i = 0; i < 16; ++i) {
     const double v = found->numbers[static_cast<std::size_t>(i)];
-    if (!std::isfinite(v)) throw InputError(where + ": element " + std::to_string(i) + " is not finite");
+    if (!std::isfinite(v))
+      throw InputError(where + ": element " + std::to_string(i) + " is not finite");
     m(i / 4, i % 4) = v;
   }
   checkRigid(m, where);

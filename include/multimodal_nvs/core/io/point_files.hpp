@@ -15,7 +15,7 @@ enum class PointFormat {
 };
 
 PointFormat parsePointFormat(const std::string& name);  ///< radar|lidar|vod7|xyzi|xyz|xyz3|pcd
-int floatsPerRecord(PointFormat format);                 ///< 0 for PCD
+int floatsPerRecord(PointFormat format);                ///< 0 for PCD
 
 /// Reads x, y, z of every point (non-finite values are kept; the core drops and counts them).
 /// Throws InputError naming the file: missing, truncated, size not a multiple of the record, bad
@@ -27,6 +27,8 @@ std::vector<Eigen::Vector3f> parseFloatRecords(const std::string& bytes, int flo
 
 /// Raw records (all fields) of a float32 .bin file, row-major count x floats_per_record.
 std::vector<float> readFloatRecords(const std::string& path, int floats_per_record);
+std::vector<float> parseFloatRecordValues(const std::string& bytes, int floats_per_record,
+                                          const std::string& source);
 void writeFloatRecords(const std::string& path, const std::vector<float>& values);
 
 }  // namespace io
