@@ -65,6 +65,61 @@ DepthErrorSums evaluateDepth(const float* prediction, const std::uint8_t* mask, 
   return sums;
 }
 
+double CalibrationCounts::observed(std::size_t i) const {
+  return count > 0 ? static_cast<double>(inside.at(i)) / static_cast<double>(count)
+                   : std::numeric_limits<double>::quiet_NaN();
+}
+
+void CalibrationCounts::merge(const CalibrationCounts& other) {
+  if (other.levels != levels) throw InputError("calibration counts of different levels");
+  count += other.count;
+  for (std::size_t i = 0; i < inside.size(); ++i)
+    inside[i] += other.inside[i];
+}
+
+double centralNormalQuantile(double p) {
+  if (!(p > 0.0 && p < 1.0)) throw InputError("calibration level must be in (0, 1)");
+  // P(|Z| <= z) = erf(z / sqrt 2) is increasing: bisection to double precision (no closed form).
+  double lo = 0.0, hi = 40.0;
+  for (int i = 0; i < 200 && hi - lo > 1e-15; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erf(mid / std::sqrt(2.0)) < p ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+CalibrationCounts evaluateCalibration(const float* prediction, const float* variance,
+                                      const std::uint8_t* mask, const float* truth, std::size_t n,
+                                      const DepthEvaluationOptions& options,
+                                      const std::vector<double>& levels) {
+  CalibrationCounts counts;
+  counts.levels = levels;
+  counts.inside.assign(levels.size(), 0);
+  std::vector<double> z(levels.size());
+  for (std::size_t l = 0; l < levels.size(); ++l)
+    z[l] = centralNormalQuantile(levels[l]);
+  const bool capped = options.max_depth > 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    // The pixel selection and clipping of evaluateDepth, so both describe the same pixels.
+    const float g = truth[i];
+    if (!(std::isfinite(g) && g > 0.0f)) continue;
+    if (capped && g > options.max_depth) continue;
+    const float p = prediction[i];
+    const bool predicted =
+        mask != nullptr ? mask[i] != 0 && std::isfinite(p) : std::isfinite(p) && p > 0.0f;
+    if (!predicted) continue;
+    double clipped = std::max<double>(p, options.min_prediction);
+    if (capped) clipped = std::min(clipped, options.max_depth);
+    ++counts.count;
+    const double v = variance[i];
+    if (!(std::isfinite(v) && v >= 0.0)) continue;
+    const double error = std::abs(clipped - g), sigma = std::sqrt(v);
+    for (std::size_t l = 0; l < levels.size(); ++l)
+      counts.inside[l] += error <= z[l] * sigma;
+  }
+  return counts;
+}
+
 std::vector<float> projectDepthGroundTruth(const std::vector<Eigen::Vector3d>& points,
                                            const PinholeIntrinsics& k, const StrideGrid& grid) {
   const int rows = grid.rows(), cols = grid.cols();

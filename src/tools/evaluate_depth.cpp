@@ -53,6 +53,10 @@ void declareOptions(mm::cli::Args& args) {
               "comma list: keep p% of all grid pixels with the lowest "
               "variance, evaluated on the kept pixels (100: every prediction)",
               "100");
+  args.option("calibration-levels", 1,
+              "comma list of nominal coverages (percent, in (0, 100)) of the central Gaussian "
+              "intervals mean +- z sigma whose observed coverage is reported",
+              "50,68,80,90,95,99");
   args.option("max-depth", 1, "range cap: ignore ground truth deeper than this (0: none)", "0");
   args.option("image-size", 2, "image size H W (default: from the frame's image)");
   args.option("repeat", 1, "run the model N times per frame and report the median time", "1");
@@ -130,19 +134,23 @@ Shard parseShard(const std::string& text) {
   return s;
 }
 
-std::vector<double> parseRetentionList(const std::string& text) {
+/// Comma list of percentages for `option`; open = exclude 0 and 100.
+std::vector<double> parsePercentList(const std::string& option, const std::string& text,
+                                     bool open) {
   std::vector<double> out;
   std::stringstream list(text);
   std::string item;
   while (std::getline(list, item, ',')) {
     char* end = nullptr;
     const double v = std::strtod(item.c_str(), &end);
-    if (item.empty() || *end != '\0' || !(v >= 0.0 && v <= 100.0)) {
-      throw mm::cli::UsageError("--retain-percent: '" + item + "' is not a percentage in [0, 100]");
+    const bool ok = open ? v > 0.0 && v < 100.0 : v >= 0.0 && v <= 100.0;
+    if (item.empty() || *end != '\0' || !ok) {
+      throw mm::cli::UsageError("--" + option + ": '" + item + "' is not a percentage in " +
+                                (open ? "(0, 100)" : "[0, 100]"));
     }
     out.push_back(v);
   }
-  if (out.empty()) throw mm::cli::UsageError("--retain-percent: empty list");
+  if (out.empty()) throw mm::cli::UsageError("--" + option + ": empty list");
   return out;
 }
 
@@ -195,6 +203,7 @@ struct RetentionResult {
   double percent = 100.0;
   long long kept = 0;
   mm::DepthErrorSums sums;
+  mm::CalibrationCounts calibration;
 };
 
 struct FrameResult {
@@ -211,6 +220,19 @@ std::string sumsJson(const mm::DepthErrorSums& s) {
     << ", \"abs_error\": " << num(s.abs_error) << ", \"sq_error\": " << num(s.sq_error)
     << ", \"sq_log_error\": " << num(s.sq_log_error) << ", \"abs_rel\": " << num(s.abs_rel)
     << ", \"delta1\": " << s.delta1 << "}";
+  return o.str();
+}
+
+/// [{"level": p, "observed": share, "inside": count}, ...] of the central intervals.
+std::string calibrationJson(const mm::CalibrationCounts& c) {
+  std::ostringstream o;
+  o << "[";
+  for (std::size_t i = 0; i < c.levels.size(); ++i) {
+    o << (i ? ", " : "") << "{\"level\": " << num(c.levels[i])
+      << ", \"observed\": " << num(c.observed(i)) << ", \"inside\": " << c.inside[i]
+      << ", \"count\": " << c.count << "}";
+  }
+  o << "]";
   return o.str();
 }
 
@@ -277,7 +299,13 @@ int run(int argc, char** argv) {
   if (gt_mode != "auto" && gt_mode != "lidar" && gt_mode != "dense") {
     throw mm::cli::UsageError("--gt must be auto, lidar or dense");
   }
-  const std::vector<double> levels = parseRetentionList(args.str("retain-percent", "100"));
+  const std::vector<double> levels =
+      parsePercentList("retain-percent", args.str("retain-percent", "100"), false);
+  std::vector<double> calibration_levels;
+  for (double p : parsePercentList("calibration-levels",
+                                   args.str("calibration-levels", "50,68,80,90,95,99"), true)) {
+    calibration_levels.push_back(p / 100.0);
+  }
   const int stride = args.integer("stride", 1);
   if (stride < 1) throw mm::cli::UsageError("--stride must be >= 1");
   const int repeat = std::max(1, args.integer("repeat", 1));
@@ -412,6 +440,8 @@ int run(int argc, char** argv) {
                                         mm::retentionCount(p, grid.size()), kept.data());
       }
       r.sums = mm::evaluateDepth(depth.data(), kept.data(), truth.data(), n, options);
+      r.calibration = mm::evaluateCalibration(depth.data(), variance.data(), kept.data(),
+                                              truth.data(), n, options, calibration_levels);
       res.retention.push_back(r);
     }
     results.push_back(res);
@@ -436,16 +466,21 @@ int run(int argc, char** argv) {
   aggregate << "[";
   for (std::size_t l = 0; l < levels.size(); ++l) {
     mm::DepthErrorSums pooled;
+    mm::CalibrationCounts calibration;
+    calibration.levels = calibration_levels;
+    calibration.inside.assign(calibration_levels.size(), 0);
     long long kept = 0;
     for (const FrameResult& f : results) {
       pooled.merge(f.retention[l].sums);
+      calibration.merge(f.retention[l].calibration);
       kept += f.retention[l].kept;
     }
     aggregate << (l ? ", " : "") << "{\"retain_percent\": " << num(levels[l])
               << ", \"kept\": " << kept
               << ", \"pooled\": " << metricsJson(mm::DepthMetrics::from(pooled))
               << ", \"mean_over_frames\": " << meanOverFramesJson(results, l)
-              << ", \"sums\": " << sumsJson(pooled) << "}";
+              << ", \"sums\": " << sumsJson(pooled)
+              << ", \"calibration\": " << calibrationJson(calibration) << "}";
   }
   aggregate << "]";
 
@@ -453,7 +488,9 @@ int run(int argc, char** argv) {
   full << "{\n  \"tool\": \"evaluate_depth\",\n  \"config\": " << config.str()
        << ",\n  \"protocol\": \"metrics over ground-truth pixels (finite, > 0, within max_depth) "
           "that have a kept prediction; predictions clipped to [0.001, max_depth]; coverage = "
-          "evaluated / ground-truth pixels; RMSE_log uses the natural log; runtime_ms = model "
+          "evaluated / ground-truth pixels; RMSE_log uses the natural log; calibration = share of "
+          "the evaluated pixels whose truth lies in the central Gaussian interval mean +- z sigma "
+          "of each nominal level (sigma^2 = the predicted variance); runtime_ms = model "
           "compute time (median over --repeat)\",\n  \"frames\": [\n";
   for (std::size_t i = 0; i < results.size(); ++i) {
     const FrameResult& f = results[i];
@@ -466,7 +503,8 @@ int run(int argc, char** argv) {
       full << (l ? ", " : "") << "{\"retain_percent\": " << num(r.percent)
            << ", \"kept\": " << r.kept
            << ", \"metrics\": " << metricsJson(mm::DepthMetrics::from(r.sums))
-           << ", \"sums\": " << sumsJson(r.sums) << "}";
+           << ", \"sums\": " << sumsJson(r.sums)
+           << ", \"calibration\": " << calibrationJson(r.calibration) << "}";
     }
     full << "]}" << (i + 1 < results.size() ? "," : "") << "\n";
   }

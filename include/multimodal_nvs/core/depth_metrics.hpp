@@ -50,6 +50,31 @@ struct DepthEvaluationOptions {
 DepthErrorSums evaluateDepth(const float* prediction, const std::uint8_t* mask, const float* truth,
                              std::size_t n, const DepthEvaluationOptions& options);
 
+/// Calibration of a predictive variance (issue 8): for each nominal level p, the number of
+/// evaluated ground-truth pixels g inside the central Gaussian interval mean +- z_p sigma, where
+/// P(|N(0, 1)| <= z_p) = p. A calibrated model has observed(i) close to levels[i] at every level.
+struct CalibrationCounts {
+  std::vector<double> levels;     ///< nominal coverage, each in (0, 1)
+  std::vector<long long> inside;  ///< per level: evaluated pixels inside the interval
+  long long count = 0;            ///< evaluated pixels
+
+  /// Share inside the interval of level i (NaN without evaluated pixels).
+  double observed(std::size_t i) const;
+  /// Adds another frame's counts; throws InputError when the levels differ.
+  void merge(const CalibrationCounts& other);
+};
+
+/// z with P(|N(0, 1)| <= z) = p, for p in (0, 1) (1.959964 for 0.95).
+double centralNormalQuantile(double p);
+
+/// Interval coverage over the same pixels as evaluateDepth (same mask, clipping and cap), with the
+/// per-pixel `variance` (m^2) of the prediction. A pixel with a non-finite or negative variance
+/// counts as outside every interval. Throws InputError for a level outside (0, 1).
+CalibrationCounts evaluateCalibration(const float* prediction, const float* variance,
+                                      const std::uint8_t* mask, const float* truth, std::size_t n,
+                                      const DepthEvaluationOptions& options,
+                                      const std::vector<double>& levels);
+
 /// Ground truth from a range scan in the camera frame: camera z of the nearest return per grid
 /// pixel (pixel = round(u / stride), round(v / stride) of its projection), 0 where no return lands.
 /// Points with z <= 0 or non-finite coordinates are ignored.
