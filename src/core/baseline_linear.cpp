@@ -1,185 +1,33 @@
-// `linear` baseline: Delaunay triangulation (cv::Subdiv2D) of the samples in (azimuth, elevation),
-// then barycentric interpolation per grid pixel. Each triangle is rasterised over a conservative
-// pixel box derived from the inverse pixel-angle mapping; the inside test uses the pixel's own
-// float32 angles, so the result is exact in the angular domain.
+// `linear` baseline: Delaunay triangulation of the samples in (azimuth, elevation)
+// (angular_triangulation.hpp), then barycentric interpolation per grid pixel.
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <opencv2/imgproc.hpp>
 
+#include "multimodal_nvs/core/angular_triangulation.hpp"
 #include "multimodal_nvs/core/baselines.hpp"
 
 namespace multimodal_nvs {
-namespace {
 
-struct Triangle {
-  double az[3], el[3], z[3];
-  double det;  // (p1 - p0) x (p2 - p0)
-  int row0, row1, col0, col1;
-};
-
-/// Pixel box (grid indices, inclusive, one pixel of margin) that contains the triangle's angular
-/// bounding box. Returns false when it misses the grid.
-bool pixelBox(const PinholeIntrinsics& k, const StrideGrid& grid, double az0, double az1,
-              double el0, double el1, Triangle& t) {
-  constexpr double kLimit = 89.9;
-  az0 = std::max(az0, -kLimit);
-  az1 = std::min(az1, kLimit);
-  el0 = std::max(el0, -kLimit);
-  el1 = std::min(el1, kLimit);
-  if (az0 > az1 || el0 > el1) return false;
-  double u0 = 0, u1 = 0, v = 0, v0 = std::numeric_limits<double>::infinity(), v1 = -v0, u = 0;
-  angularToPixel(k, az0, 0.0, &u0, &v);
-  angularToPixel(k, az1, 0.0, &u1, &v);
-  // v = cy - fy tan(el) / cos(az) is monotone in el and, for fixed el, extremal at the az ends
-  // or at az = 0.
-  const double az_candidates[3] = {az0, az1, std::min(std::max(0.0, az0), az1)};
-  for (double a : az_candidates) {
-    for (double e : {el0, el1}) {
-      angularToPixel(k, a, e, &u, &v);
-      v0 = std::min(v0, v);
-      v1 = std::max(v1, v);
-    }
-  }
-  const double s = grid.stride;
-  t.col0 = static_cast<int>(std::max(-1.0, std::floor(u0 / s) - 1));
-  t.col1 = static_cast<int>(std::min<double>(grid.cols(), std::ceil(u1 / s) + 1));
-  t.row0 = static_cast<int>(std::max(-1.0, std::floor(v0 / s) - 1));
-  t.row1 = static_cast<int>(std::min<double>(grid.rows(), std::ceil(v1 / s) + 1));
-  t.col0 = std::max(0, t.col0);
-  t.row0 = std::max(0, t.row0);
-  t.col1 = std::min(grid.cols() - 1, t.col1);
-  t.row1 = std::min(grid.rows() - 1, t.row1);
-  return t.col0 <= t.col1 && t.row0 <= t.row1;
-}
-
-}  // namespace
-
-void predictLinear(const std::vector<AngularSample>& all_samples, const PixelAngleGrid& angles,
+void predictLinear(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                    const DepthCompletionParams& /*params*/, ThreadPool& pool,
                    PixelPredictions& out) {
-  const StrideGrid& grid = angles.grid();
-  const int rows = grid.rows(), cols = grid.cols();
-  const std::size_t n = static_cast<std::size_t>(grid.size());
+  const std::size_t n = static_cast<std::size_t>(angles.grid().size());
   out.mean.assign(n, std::numeric_limits<float>::quiet_NaN());
-  out.variance.assign(n, kNoPrediction);
-
-  // The image's angular extent, and the samples near it.
-  float paz0 = std::numeric_limits<float>::infinity(), paz1 = -paz0, pel0 = paz0, pel1 = -paz0;
-  for (int r = 0; r < rows; ++r) {
-    const float* az = angles.azimuthRow(r);
-    paz0 = std::min({paz0, az[0], az[cols - 1]});
-    paz1 = std::max({paz1, az[0], az[cols - 1]});
-    pel0 = std::min(pel0, angles.minElevation(r));
-    pel1 = std::max(pel1, angles.maxElevation(r));
-  }
-  const float margin_az = std::max(2.0f, 0.1f * (paz1 - paz0));
-  const float margin_el = std::max(2.0f, 0.1f * (pel1 - pel0));
-  std::vector<AngularSample> samples;
-  for (const AngularSample& s : usableSamples(all_samples)) {
-    if (s.azimuth_deg >= paz0 - margin_az && s.azimuth_deg <= paz1 + margin_az &&
-        s.elevation_deg >= pel0 - margin_el && s.elevation_deg <= pel1 + margin_el) {
-      samples.push_back(s);
-    }
-  }
-  if (samples.size() < 3) return;
-
-  // Insertion in elevation-then-azimuth order keeps Subdiv2D's point location walks short.
-  std::vector<int> order(samples.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = int(i);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    if (samples[a].elevation_deg != samples[b].elevation_deg) {
-      return samples[a].elevation_deg < samples[b].elevation_deg;
-    }
-    return samples[a].azimuth_deg < samples[b].azimuth_deg;
-  });
-  float az0 = std::numeric_limits<float>::infinity(), az1 = -az0, el0 = az0, el1 = -az0;
-  for (const AngularSample& s : samples) {
-    az0 = std::min(az0, s.azimuth_deg);
-    az1 = std::max(az1, s.azimuth_deg);
-    el0 = std::min(el0, s.elevation_deg);
-    el1 = std::max(el1, s.elevation_deg);
-  }
-  const int x = static_cast<int>(std::floor(az0)) - 2, y = static_cast<int>(std::floor(el0)) - 2;
-  cv::Subdiv2D subdiv(cv::Rect(x, y, static_cast<int>(std::ceil(az1)) + 2 - x,
-                               static_cast<int>(std::ceil(el1)) + 2 - y));
-  // Subdiv2D vertex id -> depth; a repeated direction returns the existing vertex: keep the
-  // nearest return there.
-  std::vector<double> vertex_depth;
-  for (int i : order) {
-    const int id = subdiv.insert(cv::Point2f(samples[i].azimuth_deg, samples[i].elevation_deg));
-    if (id >= static_cast<int>(vertex_depth.size())) {
-      vertex_depth.resize(id + 1, std::numeric_limits<double>::quiet_NaN());
-    }
-    const double z = samples[i].depth;
-    if (!(vertex_depth[id] <= z)) vertex_depth[id] = z;
-  }
-
-  // Triangles whose three vertices are real samples (Subdiv2D's virtual outer vertices have ids < 4
-  // and deleted edges report vertex 0; both have no depth).
-  std::vector<int> leading;
-  subdiv.getLeadingEdgeList(leading);
-  std::vector<Triangle> triangles;
-  triangles.reserve(leading.size());
-  const PinholeIntrinsics& k = angles.intrinsics();
-  for (int edge : leading) {
-    Triangle t;
-    bool ok = true;
-    int e = edge;
-    for (int j = 0; j < 3 && ok; ++j) {
-      cv::Point2f p;
-      const int id = subdiv.edgeOrg(e, &p);
-      ok = id >= 4 && id < static_cast<int>(vertex_depth.size()) && std::isfinite(vertex_depth[id]);
-      if (ok) {
-        t.az[j] = p.x;
-        t.el[j] = p.y;
-        t.z[j] = vertex_depth[id];
-      }
-      e = subdiv.getEdge(e, cv::Subdiv2D::NEXT_AROUND_LEFT);
-    }
-    if (!ok || e != edge) continue;  // not a closed triangle
-    t.det = (t.az[1] - t.az[0]) * (t.el[2] - t.el[0]) - (t.az[2] - t.az[0]) * (t.el[1] - t.el[0]);
-    if (!(std::abs(t.det) > 1e-12)) continue;  // degenerate (collinear) triangle
-    const double taz0 = std::min({t.az[0], t.az[1], t.az[2]});
-    const double taz1 = std::max({t.az[0], t.az[1], t.az[2]});
-    const double tel0 = std::min({t.el[0], t.el[1], t.el[2]});
-    const double tel1 = std::max({t.el[0], t.el[1], t.el[2]});
-    if (pixelBox(k, grid, taz0, taz1, tel0, tel1, t)) triangles.push_back(t);
-  }
-
-  // Row bands in parallel: each band visits the triangles overlapping it, first writer wins on a
-  // shared edge (both triangles interpolate the same value there).
-  const int band_rows = 16;
-  const int bands = (rows + band_rows - 1) / band_rows;
-  constexpr double kInsideTolerance = -1e-7;
-  pool.parallelFor(bands, [&](long long b, int) {
-    const int r_begin = static_cast<int>(b) * band_rows;
-    const int r_end = std::min(rows, r_begin + band_rows);
-    for (const Triangle& t : triangles) {
-      if (t.row1 < r_begin || t.row0 >= r_end) continue;
-      const double inv_det = 1.0 / t.det;
-      for (int r = std::max(r_begin, t.row0); r <= std::min(r_end - 1, t.row1); ++r) {
-        const float* az = angles.azimuthRow(r);
-        const float* el = angles.elevationRow(r);
-        const std::size_t row = std::size_t(r) * cols;
-        for (int c = t.col0; c <= t.col1; ++c) {
-          if (out.variance[row + c] != kNoPrediction) continue;
-          const double pa = double(az[c]) - t.az[0], pe = double(el[c]) - t.el[0];
-          const double l1 = (pa * (t.el[2] - t.el[0]) - (t.az[2] - t.az[0]) * pe) * inv_det;
-          const double l2 = ((t.az[1] - t.az[0]) * pe - pa * (t.el[1] - t.el[0])) * inv_det;
-          const double l0 = 1.0 - l1 - l2;
-          if (l0 < kInsideTolerance || l1 < kInsideTolerance || l2 < kInsideTolerance) continue;
-          const double mean = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
-          const double d0 = t.z[0] - mean, d1 = t.z[1] - mean, d2 = t.z[2] - mean;
-          const double var = std::max(0.0, l0) * d0 * d0 + std::max(0.0, l1) * d1 * d1 +
-                             std::max(0.0, l2) * d2 * d2;
-          out.mean[row + c] = static_cast<float>(mean);
-          out.variance[row + c] = static_cast<float>(var);
-        }
-      }
-    }
-  });
+  out.variance.assign(n, std::numeric_limits<float>::infinity());
+  const std::vector<AngularTriangle> triangles = triangulateSamples(samples, angles);
+  std::vector<std::uint8_t> filled;
+  rasterizeTriangles(triangles, angles, pool, filled,
+                     [&](const AngularTriangle& t, double l0, double l1, double l2,
+                         std::size_t pixel, float, float) {
+                       const double mean = l0 * t.z[0] + l1 * t.z[1] + l2 * t.z[2];
+                       const double d0 = t.z[0] - mean, d1 = t.z[1] - mean, d2 = t.z[2] - mean;
+                       const double var = std::max(0.0, l0) * d0 * d0 +
+                                          std::max(0.0, l1) * d1 * d1 + std::max(0.0, l2) * d2 * d2;
+                       out.mean[pixel] = static_cast<float>(mean);
+                       out.variance[pixel] = static_cast<float>(var);
+                       return true;
+                     });
 }
 
 }  // namespace multimodal_nvs
