@@ -54,6 +54,13 @@ const PixelAngleGrid& DepthCompleter::pixelAngles(const PinholeIntrinsics& intri
 }
 
 namespace {
+GroundPlane groundPlane(const GroundPriorParams& g) {
+  GroundPlane plane;
+  plane.up = Eigen::Vector3d(g.up_x, g.up_y, g.up_z).normalized();
+  plane.height = g.camera_height;
+  return plane;
+}
+
 std::size_t countInView(const std::vector<Eigen::Vector3d>& points, const PinholeIntrinsics& k,
                         const ImageSize& image) {
   std::size_t count = 0;
@@ -131,6 +138,11 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   prediction.variance.swap(out.variance);
   if (isBaseline(params.model)) {
     predictBaseline(samples, angles, params, *pool_, prediction);  // no neighbour sets needed
+  } else if (params.model == DepthModel::kGroundGp &&
+             groundInputIsDense(samples, angles, params)) {
+    // Dense input needs no neighbour sets: the interpolating prior is the prediction.
+    predictGroundGpDense(samples, angles, params, groundPlane(params.ground),
+                         computeShift(DepthShift{}, samples), *pool_, prediction);
   } else if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
     stats.neighbour_sets = predictTiledLocalGp(samples, angles, params, stats.shift, *pool_,
                                                prediction);
@@ -141,12 +153,9 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
     if (params.model == DepthModel::kLocalGpMle) {
       predictLocalGp(samples, angles, sets, params, stats.shift, *pool_, prediction);
     } else if (params.model == DepthModel::kGroundGp) {
-      GroundPlane plane;
-      plane.up = Eigen::Vector3d(params.ground.up_x, params.ground.up_y, params.ground.up_z)
-                     .normalized();
-      plane.height = params.ground.camera_height;
       const double median = computeShift(DepthShift{}, samples);
-      predictGroundGp(samples, angles, sets, params, plane, median, *pool_, prediction);
+      predictGroundGp(samples, angles, sets, params, groundPlane(params.ground), median, *pool_,
+                      prediction);
     } else {
       predictKernel(samples, angles, sets, params, stats.shift, *pool_, prediction);
     }

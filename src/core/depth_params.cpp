@@ -40,6 +40,25 @@ DepthModel parseDepthModel(const std::string& name) {
                    "constant)");
 }
 
+const char* toString(GroundPriorParams::Input input) {
+  switch (input) {
+    case GroundPriorParams::Input::kAuto:
+      return "auto";
+    case GroundPriorParams::Input::kSparse:
+      return "sparse";
+    case GroundPriorParams::Input::kDense:
+      return "dense";
+  }
+  return "unknown";
+}
+
+GroundPriorParams::Input parseGroundInput(const std::string& name) {
+  if (name == "auto") return GroundPriorParams::Input::kAuto;
+  if (name == "sparse") return GroundPriorParams::Input::kSparse;
+  if (name == "dense") return GroundPriorParams::Input::kDense;
+  throw InputError("unknown ground_gp input '" + name + "' (expected auto, sparse or dense)");
+}
+
 DepthShift DepthShift::parse(const std::string& spec) {
   DepthShift s;
   if (spec == "auto" || spec == "median") return s;
@@ -93,6 +112,9 @@ void DepthCompletionParams::validate() const {
       fail("ground surface_k >= 1 and 1 <= surface_rank <= surface_k");
     }
     if (ground.surface_step_px < 1) fail("ground surface_step_px must be >= 1");
+    if (!(ground.dense_edge_ratio > 0.0) || !(ground.dense_relative_sigma >= 0.0)) {
+      fail("ground dense_edge_ratio must be > 0 and dense_relative_sigma >= 0");
+    }
     if (!(ground.residual_amplitude >= 0.0) || !(ground.relative_sigma >= 0.0) ||
         !(ground.relative_sigma_per_deg >= 0.0) || !(ground.far_depth >= 0.0)) {
       fail("ground residual_amplitude, relative sigmas and far_depth must be >= 0");

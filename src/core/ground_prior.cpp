@@ -62,6 +62,11 @@ void nearestBruteForce(const std::vector<float>& az, const std::vector<float>& e
   }
   const std::size_t kk = std::min<std::size_t>(k, n);
   out.clear();
+  if (kk == 1) {  // the nearest alone: one linear scan, no selection
+    const std::size_t best = static_cast<std::size_t>(std::min_element(d, d + n) - d);
+    out.emplace_back(d[best], int(best));
+    return;
+  }
   if (hint > 0.0) {
     const float limit = static_cast<float>(hint * hint);
     for (std::size_t i = 0; i < n; ++i) {
@@ -70,7 +75,8 @@ void nearestBruteForce(const std::vector<float>& az, const std::vector<float>& e
   }
   if (out.size() < kk) {
     out.clear();
-    for (std::size_t i = 0; i < n; ++i) out.emplace_back(d[i], int(i));
+    for (std::size_t i = 0; i < n; ++i)
+      out.emplace_back(d[i], int(i));
   }
   std::nth_element(out.begin(), out.begin() + (kk - 1), out.end());
   out.resize(kk);
@@ -81,7 +87,7 @@ void nearestBruteForce(const std::vector<float>& az, const std::vector<float>& e
 
 NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
                                    const PixelAngleGrid& angles, int k, int rank, int step,
-                                   ThreadPool& pool) {
+                                   ThreadPool& pool, const std::vector<AngularSample>* support) {
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
   NearestSurface out;
@@ -92,8 +98,23 @@ NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
   for (const auto& s : samples) {
     if (s.depth > 0.0f) front.push_back(s);
   }
-  if (front.empty()) return out;
+  // The support set's own search structure (only its nearest member is needed).
+  std::vector<AngularSample> support_front;
+  if (support != nullptr) {
+    for (const auto& s : *support) {
+      if (s.depth > 0.0f) support_front.push_back(s);
+    }
+  }
+  const bool separate_support = support != nullptr;
+  if (front.empty() && support_front.empty()) return out;
   const AngularBins bins(front, 1.0);
+  const AngularBins support_bins(support_front, 1.0);
+  const bool support_brute_force = support_front.size() <= kBruteForceMaxSamples;
+  std::vector<float> support_az(support_front.size()), support_el(support_front.size());
+  for (std::size_t i = 0; i < support_front.size(); ++i) {
+    support_az[i] = support_front[i].azimuth_deg;
+    support_el[i] = support_front[i].elevation_deg;
+  }
   const bool brute_force = front.size() <= kBruteForceMaxSamples;
   std::vector<float> front_az(front.size()), front_el(front.size());
   for (std::size_t i = 0; i < front.size(); ++i) {
@@ -105,7 +126,8 @@ NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
   // Lattice nodes at every step-th row/column plus the last one, so interpolation covers the grid.
   auto nodes = [step](int size) {
     std::vector<int> n;
-    for (int i = 0; i < size; i += step) n.push_back(i);
+    for (int i = 0; i < size; i += step)
+      n.push_back(i);
     if (n.back() != size - 1) n.push_back(size - 1);
     return n;
   };
@@ -119,24 +141,43 @@ NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
     double previous_kth = 0.0;  // neighbouring nodes have similar k-th distances
     for (std::size_t j = 0; j < lattice_cols; ++j) {
       const int r = node_rows[i], c = node_cols[j];
+      const float qaz = angles.azimuthRow(r)[c], qel = angles.elevationRow(r)[c];
+      float support_distance = INFINITY;
+      if (separate_support && !support_front.empty()) {
+        if (support_brute_force) {
+          nearestBruteForce(support_az, support_el, qaz, qel, 1, 0.0, distances[worker],
+                            scratch[worker]);
+        } else {
+          support_bins.nearest(qaz, qel, 1, scratch[worker]);
+        }
+        support_distance = static_cast<float>(std::sqrt(scratch[worker].front().first));
+      }
+      if (front.empty()) {
+        node_depth[i * lattice_cols + j] = INFINITY;
+        node_distance[i * lattice_cols + j] = support_distance;
+        continue;
+      }
       if (brute_force) {
-        nearestBruteForce(front_az, front_el, angles.azimuthRow(r)[c], angles.elevationRow(r)[c],
-                          k, previous_kth, distances[worker], scratch[worker]);
+        nearestBruteForce(front_az, front_el, angles.azimuthRow(r)[c], angles.elevationRow(r)[c], k,
+                          previous_kth, distances[worker], scratch[worker]);
       } else {
         bins.nearest(angles.azimuthRow(r)[c], angles.elevationRow(r)[c], k, scratch[worker],
                      previous_kth);
       }
       double kth = 0.0;
-      for (const auto& nn : scratch[worker]) kth = std::max(kth, nn.first);
+      for (const auto& nn : scratch[worker])
+        kth = std::max(kth, nn.first);
       previous_kth = std::sqrt(kth) * 1.1;
       std::vector<float>& d = depths[worker];
       d.clear();
-      for (const auto& nn : scratch[worker]) d.push_back(front[nn.second].depth);
+      for (const auto& nn : scratch[worker])
+        d.push_back(front[nn.second].depth);
       const std::size_t pick = std::min<std::size_t>(std::max(rank, 1) - 1, d.size() - 1);
       std::nth_element(d.begin(), d.begin() + pick, d.end());
       node_depth[i * lattice_cols + j] = d[pick];
       node_distance[i * lattice_cols + j] =
-          static_cast<float>(std::sqrt(scratch[worker].front().first));
+          separate_support ? support_distance
+                           : static_cast<float>(std::sqrt(scratch[worker].front().first));
     }
   });
   // Bilinear interpolation between lattice nodes.
@@ -153,7 +194,7 @@ NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
             const float d = v[(i + 1) * lattice_cols + j], e = v[(i + 1) * lattice_cols + j + 1];
             return (1 - ty) * ((1 - tx) * a + tx * b) + ty * ((1 - tx) * d + tx * e);
           };
-          out.depth[std::size_t(r) * cols + c] = lerp(node_depth);
+          if (!front.empty()) out.depth[std::size_t(r) * cols + c] = lerp(node_depth);
           out.distance_deg[std::size_t(r) * cols + c] = lerp(node_distance);
         }
       }
@@ -161,7 +202,7 @@ NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
   });
   if (node_rows.size() == 1) {  // a single row: copy the nodes along it
     for (std::size_t j = 0; j < lattice_cols; ++j) {
-      out.depth[node_cols[j]] = node_depth[j];
+      if (!front.empty()) out.depth[node_cols[j]] = node_depth[j];
       out.distance_deg[node_cols[j]] = node_distance[j];
     }
   }

@@ -39,6 +39,9 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.ground.residual_amplitude = config.ground_residual_amplitude;
   p.ground.relative_sigma = config.ground_relative_sigma;
   p.ground.relative_sigma_per_deg = config.ground_relative_sigma_per_deg;
+  p.ground.input = parseGroundInput(config.ground_input);
+  p.ground.dense_edge_ratio = config.ground_dense_edge_ratio;
+  p.ground.dense_relative_sigma = config.ground_dense_relative_sigma;
   p.validate();
   if (config.stride < 1) throw InputError("parameter stride must be >= 1");
   if (config.cloud_stride < 1) throw InputError("parameter cloud_stride must be >= 1");
@@ -73,6 +76,9 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.ground_residual_amplitude = p.ground.residual_amplitude;
   config.ground_relative_sigma = p.ground.relative_sigma;
   config.ground_relative_sigma_per_deg = p.ground.relative_sigma_per_deg;
+  config.ground_input = toString(p.ground.input);
+  config.ground_dense_edge_ratio = p.ground.dense_edge_ratio;
+  config.ground_dense_relative_sigma = p.ground.dense_relative_sigma;
   config.stride = settings.stride;
   config.cloud_stride = settings.cloud_stride;
 }

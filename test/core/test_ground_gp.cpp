@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "multimodal_nvs/core/depth_completion.hpp"
+#include "multimodal_nvs/core/depth_metrics.hpp"
+#include "multimodal_nvs/core/depth_models.hpp"
 #include "multimodal_nvs/core/errors.hpp"
 #include "multimodal_nvs/core/ground_prior.hpp"
 #include "scene_fixtures.hpp"
@@ -23,7 +25,7 @@ TEST(GroundPrior, LevelCameraSeesTheGroundAtHeightOverSlope) {
   const mm::GroundPlane plane = mm::GroundPlane::fromCameraToWorld(level);
   EXPECT_NEAR(plane.up.y(), -1.0, 1e-12);
   EXPECT_NEAR(plane.height, 1.5, 1e-12);
-  EXPECT_NEAR(plane.depthAlong(0.3, 0.1), 15.0, 1e-9);  // z = h / y
+  EXPECT_NEAR(plane.depthAlong(0.3, 0.1), 15.0, 1e-9);   // z = h / y
   EXPECT_TRUE(std::isinf(plane.depthAlong(0.0, -0.1)));  // above the horizon
 }
 
@@ -40,10 +42,9 @@ TEST(GroundPrior, NearestSurfaceTakesTheRankedDepthAmongTheNearestSamples) {
   const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
   mm::ThreadPool pool(2);
   // A near return in front of three far ones around the same direction.
-  const auto samples = mm::toAngularSamples({pointOnPixelRay(smallCamera(), 80, 60, 5.0),
-                                             pointOnPixelRay(smallCamera(), 81, 60, 30.0),
-                                             pointOnPixelRay(smallCamera(), 80, 61, 31.0),
-                                             pointOnPixelRay(smallCamera(), 79, 60, 32.0)});
+  const auto samples = mm::toAngularSamples(
+      {pointOnPixelRay(smallCamera(), 80, 60, 5.0), pointOnPixelRay(smallCamera(), 81, 60, 30.0),
+       pointOnPixelRay(smallCamera(), 80, 61, 31.0), pointOnPixelRay(smallCamera(), 79, 60, 32.0)});
   const auto first = mm::nearestSurfaceDepth(samples, angles, 4, 1, 1, pool);
   const auto second = mm::nearestSurfaceDepth(samples, angles, 4, 2, 1, pool);
   const std::size_t centre = std::size_t(60) * 160 + 80;
@@ -53,7 +54,8 @@ TEST(GroundPrior, NearestSurfaceTakesTheRankedDepthAmongTheNearestSamples) {
   EXPECT_GT(first.distance_deg[std::size_t(5) * 160 + 5], 20.0);
   // A coarse lattice interpolates but keeps exact values at its nodes.
   const auto coarse = mm::nearestSurfaceDepth(samples, angles, 4, 1, 8, pool);
-  EXPECT_NEAR(coarse.depth[std::size_t(56) * 160 + 80], first.depth[std::size_t(56) * 160 + 80], 1e-4);
+  EXPECT_NEAR(coarse.depth[std::size_t(56) * 160 + 80], first.depth[std::size_t(56) * 160 + 80],
+              1e-4);
 }
 
 TEST(GroundGp, RecoversAFlatRoadAndItsVarianceGrowsAwayFromSamples) {
@@ -79,7 +81,8 @@ TEST(GroundGp, RecoversAFlatRoadAndItsVarianceGrowsAwayFromSamples) {
   const float far = map.variance[std::size_t(90) * 160 + 150];
   EXPECT_GT(near, 0.0f);
   EXPECT_GT(far, near);
-  for (float v : map.variance) ASSERT_TRUE(std::isfinite(v));
+  for (float v : map.variance)
+    ASSERT_TRUE(std::isfinite(v));
 }
 
 TEST(GroundGp, NearReturnsWinOverFarOnes) {
@@ -105,4 +108,137 @@ TEST(GroundGp, InvalidParametersAreRejected) {
   params.ground = {};
   params.ground.camera_height = 0.0;
   EXPECT_THROW(completer.complete({}, smallCamera(), {smallImage(), 1}, params), mm::InputError);
+}
+
+// --- dense-input mode ----------------------------------------------------------------------------
+
+namespace {
+// A sample every `step` pixels over rows [v0, v1) of the small camera, depth from `depth(u, v)`.
+template <typename Depth>
+std::vector<Eigen::Vector3d> denseScan(int v0, int v1, int step, Depth depth) {
+  std::vector<Eigen::Vector3d> points;
+  for (int v = v0; v < v1; v += step) {
+    for (int u = 0; u < 160; u += step)
+      points.push_back(pointOnPixelRay(smallCamera(), u, v, depth(u, v)));
+  }
+  return points;
+}
+}  // namespace
+
+TEST(GroundGpDense, AutoModeFollowsTheSampleSpacing) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  const auto flat = [](int, int) { return 10.0; };
+  // Small camera: ~0.57 deg per pixel. Every 2nd pixel is ~1.1 deg apart (dense for r = 2.5 deg
+  // by the spacing <= r / 2 rule), every 8th ~4.6 deg (sparse).
+  params.radius_deg = 2.5;
+  EXPECT_TRUE(
+      mm::groundInputIsDense(mm::toAngularSamples(denseScan(0, 120, 2, flat)), angles, params));
+  EXPECT_FALSE(
+      mm::groundInputIsDense(mm::toAngularSamples(denseScan(0, 120, 8, flat)), angles, params));
+  params.ground.input = mm::GroundPriorParams::Input::kDense;
+  EXPECT_TRUE(mm::groundInputIsDense({}, angles, params));
+  params.ground.input = mm::GroundPriorParams::Input::kSparse;
+  EXPECT_FALSE(
+      mm::groundInputIsDense(mm::toAngularSamples(denseScan(0, 120, 2, flat)), angles, params));
+  EXPECT_EQ(mm::parseGroundInput("dense"), mm::GroundPriorParams::Input::kDense);
+  EXPECT_THROW(mm::parseGroundInput("lidar"), mm::InputError);
+}
+
+TEST(GroundGpDense, InverseDepthInterpolationIsExactOnTheRoad) {
+  // Road 1.3 m below a level camera, a sample every 6 pixels: z = h / y is convex in the image,
+  // so interpolating z (the linear baseline) overestimates between rows; 1/z is an affine function
+  // of the image position on any plane, so interpolating it is nearly exact.
+  const auto road = [](int, int v) { return 1.3 / ((v - 60) / 100.0); };
+  const auto points = denseScan(66, 120, 6, road);
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  params.ground.input = mm::GroundPriorParams::Input::kDense;
+  mm::DepthCompleter completer(2);
+  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  params.model = mm::DepthModel::kLinear;
+  const auto linear = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  double worst = 0.0, worst_linear = 0.0;
+  for (int v = 69; v < 114; ++v) {
+    for (int u = 10; u < 150; u += 7) {
+      const std::size_t p = std::size_t(v) * 160 + u;
+      worst = std::max(worst, std::abs(map.depth[p] - road(u, v)) / road(u, v));
+      worst_linear = std::max(worst_linear, std::abs(linear.depth[p] - road(u, v)) / road(u, v));
+    }
+  }
+  // Not exact: the barycentric weights are angular, which differs from the normalised image
+  // position at second order in a triangle's size (here 6 px of a 77-degree-wide camera).
+  EXPECT_LT(worst, 0.01) << worst_linear;
+  EXPECT_GT(worst_linear, 4 * worst) << worst;
+}
+
+TEST(GroundGpDense, OcclusionEdgesAreNotBlended) {
+  // A box at 5 m (columns 60-99, rows 30-69) in front of a wall at 20 m, sampled every 3 pixels.
+  const auto scene = [](int u, int v) {
+    return u >= 60 && u < 100 && v >= 30 && v < 70 ? 5.0 : 20.0;
+  };
+  const auto points = denseScan(0, 120, 3, scene);
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  params.ground.camera_height = 100.0;  // no ground in view: only the edge logic is tested
+  params.ground.input = mm::GroundPriorParams::Input::kDense;
+  mm::DepthCompleter completer(2);
+  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  int blended = 0;
+  for (int v = 3; v < 117; ++v) {
+    for (int u = 3; u < 157; ++u) {
+      const float z = map.depth[std::size_t(v) * 160 + u];
+      blended += std::abs(z - 5.0f) > 0.05f && std::abs(z - 20.0f) > 0.2f;
+    }
+  }
+  EXPECT_EQ(blended, 0);
+  // Far from the edge: the right surface, with a small variance; on the edge a large one.
+  EXPECT_NEAR(map.depth[std::size_t(50) * 160 + 80], 5.0f, 1e-3);
+  EXPECT_NEAR(map.depth[std::size_t(100) * 160 + 20], 20.0f, 1e-2);
+  EXPECT_LT(map.variance[std::size_t(50) * 160 + 80], 0.1f);
+  EXPECT_GT(map.variance[std::size_t(50) * 160 + 100], 1.0f);
+}
+
+TEST(GroundPrior, SupportDistanceComesFromTheSupportSet) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  const auto objects = mm::toAngularSamples({pointOnPixelRay(smallCamera(), 20, 20, 5.0)});
+  const auto support = mm::toAngularSamples(
+      {pointOnPixelRay(smallCamera(), 20, 20, 5.0), pointOnPixelRay(smallCamera(), 120, 100, 9.0)});
+  const auto own = mm::nearestSurfaceDepth(objects, angles, 1, 1, 1, pool);
+  const auto with = mm::nearestSurfaceDepth(objects, angles, 1, 1, 1, pool, &support);
+  const std::size_t at_second = std::size_t(100) * 160 + 120;
+  EXPECT_EQ(own.depth[at_second], with.depth[at_second]);  // the surface: objects only
+  EXPECT_GT(own.distance_deg[at_second], 20.0f);
+  EXPECT_LT(with.distance_deg[at_second], 1e-3f);
+}
+
+// --- calibration ---------------------------------------------------------------------------------
+
+TEST(Calibration, CentralNormalQuantiles) {
+  EXPECT_NEAR(mm::centralNormalQuantile(0.95), 1.959963985, 1e-8);
+  EXPECT_NEAR(mm::centralNormalQuantile(0.6826894921), 1.0, 1e-8);
+  EXPECT_NEAR(mm::centralNormalQuantile(0.5), 0.6744897502, 1e-8);
+  EXPECT_THROW(mm::centralNormalQuantile(1.0), mm::InputError);
+}
+
+TEST(Calibration, CountsTruthInsideTheIntervals) {
+  // Errors of 0.5, 1.5, 2.5 sigma (sigma = 2), one pixel without truth, one not predicted.
+  const std::vector<float> prediction = {10.0f, 10.0f, 10.0f, 10.0f, -1.0f};
+  const std::vector<float> variance = {4.0f, 4.0f, 4.0f, 4.0f, 4.0f};
+  const std::vector<float> truth = {11.0f, 7.0f, 15.0f, 0.0f, 10.0f};
+  const std::vector<double> levels = {0.5, 0.9, 0.99};  // z = 0.674, 1.645, 2.576
+  const auto counts = mm::evaluateCalibration(prediction.data(), variance.data(), nullptr,
+                                              truth.data(), truth.size(), {}, levels);
+  EXPECT_EQ(counts.count, 3);
+  EXPECT_EQ(counts.inside, (std::vector<long long>{1, 2, 3}));
+  EXPECT_NEAR(counts.observed(1), 2.0 / 3.0, 1e-12);
+  mm::CalibrationCounts total = counts;
+  total.merge(counts);
+  EXPECT_EQ(total.count, 6);
+  EXPECT_EQ(total.inside[2], 6);
+  mm::CalibrationCounts other = counts;
+  other.levels = {0.5};
+  EXPECT_THROW(total.merge(other), mm::InputError);
 }

@@ -55,6 +55,18 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
                      const GroundPlane& plane, double median_depth, ThreadPool& pool,
                      PixelPredictions& out);
 
+/// `ground_gp` on dense input (ground_gp_model.cpp): the prior is the edge-aware interpolation of
+/// inverse depth on the Delaunay triangulation of the samples; no residual GP (the prior already
+/// passes through every sample, so the GP's posterior mean would equal it).
+void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                          const DepthCompletionParams& params, const GroundPlane& plane,
+                          double median_depth, ThreadPool& pool, PixelPredictions& out);
+
+/// Whether `ground_gp` runs its dense-input mode: params.ground.input, or for auto whether the mean
+/// angular spacing sqrt(view area / samples in view) is at most half of params.radius_deg.
+bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                        const DepthCompletionParams& params);
+
 /// The documented approximation for dense input (max_neighbors > 0): one neighbour set of at most
 /// max_neighbors samples and one length scale per tile. Returns the number of tiles solved.
 int predictTiledLocalGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,

@@ -45,7 +45,19 @@ struct GroundPriorParams {
   double residual_amplitude = 1.0;  ///< GP amplitude of the residual (metres); 0: no GP
   double relative_sigma = 0.25;     ///< prior std as a fraction of its depth, at a sample ...
   double relative_sigma_per_deg = 0.10;  ///< ... growing with the angular distance to it
+  /// Sparse (radar) or dense (LiDAR) input; auto: dense when the mean angular spacing of the
+  /// samples in view is at most half the neighbourhood radius (ground_gp_model.cpp).
+  enum class Input { kAuto, kSparse, kDense };
+  Input input = Input::kAuto;
+  /// Dense mode: two returns belong to one surface when their depths differ by at most this
+  /// fraction (or both are ground returns); otherwise the edge between them is an occlusion edge.
+  double dense_edge_ratio = 0.1;
+  double dense_relative_sigma = 0.03;  ///< dense mode: prior std / depth inside a surface
 };
+
+const char* toString(GroundPriorParams::Input input);
+/// auto|sparse|dense; throws InputError otherwise.
+GroundPriorParams::Input parseGroundInput(const std::string& name);
 
 /// Every parameter of depth completion, with the reference's defaults. The CLI flags, the YAML
 /// files and dynamic_reconfigure all map onto this one struct.

@@ -38,12 +38,15 @@ std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPl
 /// the nearest sample. A far return behind a near one (radar multipath, returns through
 /// vegetation) does not pull this estimate, unlike a mean. Evaluated on a lattice every `step`
 /// grid pixels and interpolated bilinearly in between. Empty samples: +inf depth.
+/// With `support`, distance_deg is the distance to the nearest of those samples instead (same
+/// lattice pass: ground_gp needs the surface of the object returns and the distance to any return).
 struct NearestSurface {
   std::vector<float> depth;
   std::vector<float> distance_deg;
 };
 NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
                                    const PixelAngleGrid& angles, int k, int rank, int step,
-                                   ThreadPool& pool);
+                                   ThreadPool& pool,
+                                   const std::vector<AngularSample>* support = nullptr);
 
 }  // namespace multimodal_nvs

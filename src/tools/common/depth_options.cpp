@@ -35,6 +35,13 @@ void declareDepthModelOptions(Args& args) {
   args.option("relative-sigma", 1, "ground_gp: prior std / depth at a sample", "0.25");
   args.option("relative-sigma-per-deg", 1, "ground_gp: growth of prior std / depth per degree",
               "0.10");
+  args.option("ground-input", 1,
+              "ground_gp: auto|sparse|dense (auto: dense when the samples in view are at most "
+              "radius/2 apart on average)",
+              "auto");
+  args.option("dense-edge-ratio", 1,
+              "ground_gp dense: relative depth step that separates two surfaces", "0.1");
+  args.option("dense-relative-sigma", 1, "ground_gp dense: prior std / depth on a surface", "0.03");
 }
 
 DepthCompletionParams depthModelParams(const Args& args) {
@@ -62,6 +69,9 @@ DepthCompletionParams depthModelParams(const Args& args) {
   g.surface_step_px = args.integer("surface-step-px", g.surface_step_px);
   g.relative_sigma = args.number("relative-sigma", g.relative_sigma);
   g.relative_sigma_per_deg = args.number("relative-sigma-per-deg", g.relative_sigma_per_deg);
+  g.input = parseGroundInput(args.str("ground-input", "auto"));
+  g.dense_edge_ratio = args.number("dense-edge-ratio", g.dense_edge_ratio);
+  g.dense_relative_sigma = args.number("dense-relative-sigma", g.dense_relative_sigma);
   p.validate();
   return p;
 }
