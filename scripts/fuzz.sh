@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# `make fuzz`: builds the libFuzzer harnesses of fuzz/ with clang (ASan + UBSan) into build_fuzz,
+# writes their seed corpora and runs each harness for SECONDS (default 60). Exits non-zero when any
+# harness finds a crash, a leak, a timeout or runs out of memory; the input is kept under
+# build_fuzz/artifacts/<harness>/. One summary line per harness, then a final line.
+#   scripts/fuzz.sh [SECONDS_PER_HARNESS]
+# Environment: FUZZ_BUILD_DIR (build_fuzz), JOBS (2), FUZZ_TIMEOUT per input in s (10),
+# FUZZ_RSS_MB (2048), FUZZERS (space-separated subset of the harnesses).
+set -uo pipefail
+SECONDS_PER_HARNESS=${1:-60}
+if ! [[ "$SECONDS_PER_HARNESS" =~ ^[0-9]+$ ]] || ((SECONDS_PER_HARNESS == 0)); then
+  echo "usage: scripts/fuzz.sh [SECONDS_PER_HARNESS > 0]" >&2
+  exit 2
+fi
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+cd "$ROOT" || exit 1
+export PATH=/usr/bin:/bin:$PATH
+BUILD=${FUZZ_BUILD_DIR:-build_fuzz}
+JOBS=${JOBS:-2}
+TIMEOUT=${FUZZ_TIMEOUT:-10}
+RSS_MB=${FUZZ_RSS_MB:-2048}
+ALL_FUZZERS="fuzz_cloud fuzz_kitti_calib fuzz_vod_pose fuzz_bin fuzz_pcd fuzz_npy"
+read -r -a fuzzers <<<"${FUZZERS:-$ALL_FUZZERS}"
+
+mkdir -p "$BUILD"
+echo "[fuzz] building the harnesses into $BUILD (clang, ASan + UBSan, $JOBS jobs)"
+if ! cmake -S fuzz -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  >"$BUILD/configure.log" 2>&1; then
+  cat "$BUILD/configure.log"
+  exit 1
+fi
+if ! cmake --build "$BUILD" -j "$JOBS" >"$BUILD/build.log" 2>&1; then
+  grep -E 'error|Error' "$BUILD/build.log" | head -n 40
+  exit 1
+fi
+
+# Fresh seeds every run (they are code); the working corpus under $BUILD/corpus persists, so
+# repeated runs start where the last one stopped.
+rm -rf "$BUILD/seeds"
+"$BUILD/write_fuzz_seeds" "$BUILD/seeds" || exit 1
+
+# Leaks fail the run (libFuzzer checks after every input that allocated more than it freed).
+# UBSan aborts on the first report (the code is also built with -fno-sanitize-recover).
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:symbolize=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+
+# A figure from libFuzzer's -print_final_stats block ("stat::peak_rss_mb: 531").
+final_stat() { sed -nE "s/^stat::$1: *([0-9]+).*/\1/p" "$2" | tail -n 1; }
+
+failed=0
+for fuzzer in "${fuzzers[@]}"; do
+  corpus="$BUILD/corpus/$fuzzer"
+  artifacts="$BUILD/artifacts/$fuzzer"
+  log="$BUILD/logs/$fuzzer.log"
+  mkdir -p "$corpus" "$artifacts" "$BUILD/logs"
+  dict=()
+  [[ -f "fuzz/$fuzzer.dict" ]] && dict=("-dict=fuzz/$fuzzer.dict")
+  "$BUILD/$fuzzer" -max_total_time="$SECONDS_PER_HARNESS" -timeout="$TIMEOUT" \
+    -rss_limit_mb="$RSS_MB" -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" \
+    "$corpus" "$BUILD/seeds/$fuzzer" >"$log" 2>&1
+  rc=$?
+  execs=$(final_stat number_of_executed_units "$log")
+  rate=$(final_stat average_exec_per_sec "$log")
+  rss=$(final_stat peak_rss_mb "$log")
+  # The last status line, e.g. "#123456 DONE cov: 412 ft: 1830 corp: 97/21Kb ...".
+  status=$(grep -E '^#[0-9]+' "$log" | tail -n 1)
+  cov=$(sed -nE 's/.* cov: ([0-9]+).*/\1/p' <<<"$status")
+  ft=$(sed -nE 's/.* ft: ([0-9]+).*/\1/p' <<<"$status")
+  corp=$(sed -nE 's/.* corp: ([0-9]+)\/.*/\1/p' <<<"$status")
+  figures="${execs:-?} execs (${rate:-?}/s), cov ${cov:-?}, ft ${ft:-?}, corpus ${corp:-?}, peak RSS ${rss:-?} MB"
+  if ((rc == 0)); then
+    echo "[fuzz] $fuzzer: ok, $figures"
+    continue
+  fi
+  failed=$((failed + 1))
+  kind=crash
+  grep -q 'ERROR: LeakSanitizer' "$log" && kind=leak
+  grep -q 'ERROR: libFuzzer: timeout' "$log" && kind=timeout
+  grep -q 'ERROR: libFuzzer: out-of-memory' "$log" && kind=out-of-memory
+  artifact=$(sed -nE 's/.*Test unit written to (.*)$/\1/p' "$log" | tail -n 1)
+  echo "[fuzz] $fuzzer: FAILED ($kind, exit $rc), $figures; input: ${artifact:-none}; log: $log"
+  grep -E 'ERROR:|runtime error:|invariant violated|SUMMARY:' "$log" | head -n 5 | sed 's/^/    /'
+done
+
+echo "fuzz: ${#fuzzers[@]} harnesses x ${SECONDS_PER_HARNESS} s, $((${#fuzzers[@]} - failed)) ok, $failed failed"
+((failed == 0))
