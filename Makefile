@@ -7,7 +7,7 @@ JOBS ?= $(shell nproc)
 # Debian's ROS tools need Debian's interpreter (catkin_pkg, rospkg), not a pyenv one.
 export PATH := /usr/bin:/bin:$(PATH)
 
-.PHONY: all deps configure build test demo bench eval clean format
+.PHONY: all deps configure build test demo bench eval clean format fuzz
 
 all: build
 
@@ -36,6 +36,11 @@ bench: build
 # The paper's depth and novel-view tables with the baselines (README, section Evaluation).
 eval: build
 	@scripts/eval.sh $(BUILD_DIR)
+
+# libFuzzer harnesses (fuzz/, clang, ASan + UBSan) in build_fuzz, FUZZ_SECONDS each (default 60);
+# fails on any crash, leak or timeout.
+fuzz: deps
+	@scripts/fuzz.sh $(FUZZ_SECONDS)
 
 format:
 	@find include src test bench -name '*.hpp' -o -name '*.cpp' | xargs clang-format -i
