@@ -17,7 +17,7 @@ add_dependencies(tests scene_publisher)
 set(MMNVS_ROSTEST_DEPENDENCIES multimodal_nvs_nodelets depth_completion_node scene_publisher)
 add_dependencies(tests multimodal_nvs_nodelets depth_completion_node)
 
-foreach(scenario depth_scene depth_bad_input)
+foreach(scenario depth_scene depth_bad_input depth_adversarial)
   add_rostest_gtest(test_${scenario} test/ros/${scenario}.test test/ros/test_${scenario}.cpp)
   target_include_directories(test_${scenario} SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
   target_link_libraries(test_${scenario} ${catkin_LIBRARIES})

@@ -33,6 +33,20 @@ void DepthCompletionDiagnostics::countPublished(double latency_ms, double comput
   }
 }
 
+void DepthCompletionDiagnostics::countTimeJump() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++window_.time_jumps;
+  ++total_.time_jumps;
+}
+
+void DepthCompletionDiagnostics::countSubsampled(std::size_t step) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (Counts* counts : {&window_, &total_}) {
+    ++counts->subsampled;
+    counts->max_subsample_step = std::max(counts->max_subsample_step, step);
+  }
+}
+
 void DepthCompletionDiagnostics::setSubscribed(bool subscribed) {
   std::lock_guard<std::mutex> lock(mutex_);
   subscribed_ = subscribed;
@@ -61,11 +75,18 @@ void DepthCompletionDiagnostics::report(diagnostic_updater::DiagnosticStatusWrap
                total_.faults[f]);
   }
   status.add("rejected total", rejected_total);
+  status.add("time jumps back", total_.time_jumps);
+  status.add("subsampled clouds", total_.subsampled);
+  status.add("largest subsampling step", total_.max_subsample_step);
   status.add("subscribed to inputs", subscribed_ ? "yes" : "no (no output subscriber)");
   if (rejected_window > 0) {
     status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
                     "%lu input sets dropped in the last %.1f s (see 'rejected ...')",
                     rejected_window, seconds);
+  } else if (window_.time_jumps > 0) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                    "time went back %lu times in the last %.1f s (bag restarted?): started over",
+                    window_.time_jumps, seconds);
   } else if (subscribed_ && window_.inputs[static_cast<int>(Input::kSet)] == 0) {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "waiting for synchronized input");
   } else {

@@ -22,6 +22,10 @@ class DepthCompletionDiagnostics {
   void countInput(Input input);
   void countFault(ros_conversions::InputFault fault);
   void countPublished(double latency_ms, double compute_ms);
+  /// Simulated time or the input stamps went back (a bag restarted): the node started over.
+  void countTimeJump();
+  /// A cloud larger than max_points was read every `step`-th point (processed, not rejected).
+  void countSubsampled(std::size_t step);
   void setSubscribed(bool subscribed);
 
  private:
@@ -33,6 +37,8 @@ class DepthCompletionDiagnostics {
     unsigned long published = 0;
     std::array<unsigned long, ros_conversions::kInputFaultCount> faults{};
     double latency_sum_ms = 0.0, latency_max_ms = 0.0, compute_sum_ms = 0.0;
+    unsigned long time_jumps = 0, subsampled = 0;
+    std::size_t max_subsample_step = 0;
   };
 
   std::mutex mutex_;

@@ -5,6 +5,7 @@
 #include <image_transport/camera_publisher.h>
 #include <image_transport/image_transport.h>
 #include <image_transport/subscriber_filter.h>
+#include <message_filters/pass_through.h>
 #include <message_filters/subscriber.h>
 #include <nodelet/nodelet.h>
 #include <sensor_msgs/CompressedImage.h>
@@ -14,9 +15,11 @@
 #include <boost/make_shared.hpp>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <new>
 
 #include "depth_completion_diagnostics.hpp"
 // The generated depth/stats message shares its name with the core's multimodal_nvs::
@@ -27,6 +30,7 @@
 #include "multimodal_nvs/ros/conversions.hpp"
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
 #include "multimodal_nvs/ros/frame_synchronizer.hpp"
+#include "multimodal_nvs/ros/input_timeline.hpp"
 
 namespace multimodal_nvs {
 
@@ -45,6 +49,13 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   void connectCb();
   bool outputsHaveSubscribers() const;
   void subscribeInputs();
+  template <class M>
+  void gate(message_filters::SimpleFilter<M>& subscriber, message_filters::PassThrough<M>& gate,
+            DepthCompletionDiagnostics::Input input);
+  void createSynchronizer();
+  void startOver();
+  bool acceptStamp(const ros::Time& stamp);
+  std::size_t pointCap(const DepthCompletionSettings& settings) const;
   void onRawFrame(const RawSync::PointsEvent& points, const RawSync::ImageEvent& image,
                   const RawSync::InfoEvent& info);
   void onCompressedFrame(const CompressedSync::PointsEvent& points,
@@ -60,6 +71,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   bool lookupSensorToCamera(const std_msgs::Header& cloud_header, const std::string& camera_frame,
                             Eigen::Isometry3d& sensor_to_camera);
   bool accept(const rc::ConversionStatus& status, const char* topic);
+  void releaseOversizedBuffers();
   void reconfigure(Config& config, uint32_t level);
   DepthCompletionSettings currentSettings();
   DepthCompleter& completer(int threads);
@@ -68,6 +80,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   SyncSettings sync_settings_;
   bool compressed_input_ = false;
   ros::Duration tf_timeout_;
+  int max_points_ = 0;  // < 0: no limit, 0: automatic (pointCap), > 0: that many
 
   // Inputs, subscribed only while an output has a subscriber.
   std::unique_ptr<image_transport::ImageTransport> it_;
@@ -75,6 +88,12 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   image_transport::SubscriberFilter image_sub_;
   message_filters::Subscriber<sensor_msgs::CompressedImage> compressed_sub_;
   message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
+  // Every message passes a gate that watches the clock before the synchronizer sees it: after a
+  // backward jump the gate replaces the synchronizer, and its queues with it.
+  message_filters::PassThrough<sensor_msgs::PointCloud2> points_gate_;
+  message_filters::PassThrough<sensor_msgs::Image> image_gate_;
+  message_filters::PassThrough<sensor_msgs::CompressedImage> compressed_gate_;
+  message_filters::PassThrough<sensor_msgs::CameraInfo> info_gate_;
   std::unique_ptr<RawSync> raw_sync_;
   std::unique_ptr<CompressedSync> compressed_sync_;
 
@@ -99,6 +118,10 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   int completer_threads_ = -1;
   std::vector<Eigen::Vector3d> points_camera_;
   DepthCompletionDiagnostics diagnostics_;
+  // Time bookkeeping (input and frame callbacks, one at a time as above).
+  ClockWatch clock_watch_;
+  StampOrder stamp_order_;
+  std::array<ros::WallTime, rc::kInputFaultCount> last_logged_{};  // per-fault log throttle
 };
 
 void DepthCompletionNodelet::onInit() {
@@ -109,6 +132,7 @@ void DepthCompletionNodelet::onInit() {
   sync_settings_.max_interval = pnh.param("max_interval", 0.0);
   compressed_input_ = pnh.param("compressed_input", false);
   tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
+  max_points_ = pnh.param("max_points", 0);
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
@@ -122,28 +146,12 @@ void DepthCompletionNodelet::onInit() {
                                                boost::placeholders::_1, boost::placeholders::_2));
 
   it_ = std::make_unique<image_transport::ImageTransport>(nh);
-  if (compressed_input_) {
-    compressed_sync_ = std::make_unique<CompressedSync>(
-        sync_settings_, points_sub_, compressed_sub_, info_sub_,
-        boost::bind(&DepthCompletionNodelet::onCompressedFrame, this, boost::placeholders::_1,
-                    boost::placeholders::_2, boost::placeholders::_3));
-  } else {
-    raw_sync_ = std::make_unique<RawSync>(
-        sync_settings_, points_sub_, image_sub_, info_sub_,
-        boost::bind(&DepthCompletionNodelet::onRawFrame, this, boost::placeholders::_1,
-                    boost::placeholders::_2, boost::placeholders::_3));
-  }
+  createSynchronizer();
   using Input = DepthCompletionDiagnostics::Input;
-  points_sub_.registerCallback(
-      [this](const sensor_msgs::PointCloud2ConstPtr&) { diagnostics_.countInput(Input::kPoints); });
-  image_sub_.registerCallback(
-      [this](const sensor_msgs::ImageConstPtr&) { diagnostics_.countInput(Input::kImage); });
-  compressed_sub_.registerCallback([this](const sensor_msgs::CompressedImageConstPtr&) {
-    diagnostics_.countInput(Input::kImage);
-  });
-  info_sub_.registerCallback([this](const sensor_msgs::CameraInfoConstPtr&) {
-    diagnostics_.countInput(Input::kCameraInfo);
-  });
+  gate(points_sub_, points_gate_, Input::kPoints);
+  gate(image_sub_, image_gate_, Input::kImage);
+  gate(compressed_sub_, compressed_gate_, Input::kImage);
+  gate(info_sub_, info_gate_, Input::kCameraInfo);
   advertiseOutputs();
 }
 
@@ -198,6 +206,92 @@ void DepthCompletionNodelet::subscribeInputs() {
   }
 }
 
+/// Passes every message of `subscriber` through `gate` to the synchronizer, counting it and
+/// watching the clock first. Replacing the synchronizer here is safe: it is connected to the gates,
+/// whose signals are not being called yet.
+template <class M>
+void DepthCompletionNodelet::gate(message_filters::SimpleFilter<M>& subscriber,
+                                  message_filters::PassThrough<M>& gate,
+                                  DepthCompletionDiagnostics::Input input) {
+  const boost::function<void(const ros::MessageEvent<const M>&)> callback =
+      [this, &gate, input](const ros::MessageEvent<const M>& event) {
+        diagnostics_.countInput(input);
+        ros::Duration jump;
+        if (clock_watch_.jumpedBack(ros::Time::now(), &jump)) {
+          NODELET_WARN_THROTTLE(2.0,
+                                "time jumped back by %.3f s (bag restarted with --clock?): "
+                                "clearing the synchronizer, the tf buffer and the stamp history",
+                                jump.toSec());
+          createSynchronizer();  // the previous run's messages must not pair with the new ones
+          startOver();
+        }
+        gate.add(event);
+      };
+  subscriber.registerCallback(callback);
+}
+
+void DepthCompletionNodelet::createSynchronizer() {
+  raw_sync_.reset();
+  compressed_sync_.reset();
+  if (compressed_input_) {
+    compressed_sync_ = std::make_unique<CompressedSync>(
+        sync_settings_, points_gate_, compressed_gate_, info_gate_,
+        boost::bind(&DepthCompletionNodelet::onCompressedFrame, this, boost::placeholders::_1,
+                    boost::placeholders::_2, boost::placeholders::_3));
+  } else {
+    raw_sync_ = std::make_unique<RawSync>(
+        sync_settings_, points_gate_, image_gate_, info_gate_,
+        boost::bind(&DepthCompletionNodelet::onRawFrame, this, boost::placeholders::_1,
+                    boost::placeholders::_2, boost::placeholders::_3));
+  }
+}
+
+/// Forgets what came before a restart of the input stream. The tf listener clears its buffer too,
+/// but only when the next tf message arrives, and a lookup before that would interpolate in the
+/// previous run's transforms.
+void DepthCompletionNodelet::startOver() {
+  diagnostics_.countTimeJump();
+  tf_buffer_->clear();  // keeps /tf_static: tf2's static caches ignore clear()
+  stamp_order_.reset();
+}
+
+/// Drops a set whose image stamp repeats or precedes the last processed one; a stamp far in the
+/// past is a restarted stream (a bag replayed without --clock) and starts over.
+bool DepthCompletionNodelet::acceptStamp(const ros::Time& stamp) {
+  const ros::Time last = stamp_order_.last();
+  switch (stamp_order_.check(stamp)) {
+    case StampOrder::Verdict::kNewer:
+      return true;
+    case StampOrder::Verdict::kRestart:
+      NODELET_WARN_THROTTLE(2.0,
+                            "input stamps went back by %.3f s (stream restarted?): starting over",
+                            (last - stamp).toSec());
+      startOver();
+      stamp_order_.check(stamp);
+      return true;
+    case StampOrder::Verdict::kNotNewer:
+      break;
+  }
+  return accept(rc::ConversionStatus::failure(rc::InputFault::kStampNotNewer,
+                                              "image stamp " + std::to_string(stamp.toSec()) +
+                                                  (stamp == last ? " repeats" : " precedes") +
+                                                  " the last processed set's " +
+                                                  std::to_string(last.toSec())),
+                "image");
+}
+
+/// Most points the model is given per set. The exact reference GP (local_gp_mle without
+/// max_neighbors) solves one GP per distinct neighbour set, and both the sets' number and size grow
+/// with the density: on a 320x240 image 10k points take 13 s on one core and 30k points more than
+/// 2 minutes and 2.7 GB. The other models are linear in the points (200k: ~4 s for ground_gp).
+std::size_t DepthCompletionNodelet::pointCap(const DepthCompletionSettings& settings) const {
+  if (max_points_ < 0) return 0;
+  if (max_points_ > 0) return std::size_t(max_points_);
+  const bool exact_gp =
+      settings.params.model == DepthModel::kLocalGpMle && settings.params.max_neighbors == 0;
+  return exact_gp ? 5000 : 200000;
+}
+
 void DepthCompletionNodelet::onRawFrame(const RawSync::PointsEvent& points,
                                         const RawSync::ImageEvent& image,
                                         const RawSync::InfoEvent& info) {
@@ -235,16 +329,26 @@ void DepthCompletionNodelet::processFrame(const sensor_msgs::PointCloud2& cloud,
                                           const sensor_msgs::CameraInfo& info,
                                           const ros::Time& receipt) {
   const DepthCompletionSettings settings = currentSettings();
+  if (!acceptStamp(image_header.stamp)) return;
   PinholeIntrinsics intrinsics;
   if (!accept(rc::intrinsicsFromCameraInfo(info, image_size, intrinsics), "camera_info")) return;
   // Layout first, so that a malformed cloud is reported as such and not as a missing transform.
   if (!accept(rc::validateCloudLayout(cloud), "points")) return;
   Eigen::Isometry3d sensor_to_camera;
   if (!lookupSensorToCamera(cloud.header, image_header.frame_id, sensor_to_camera)) return;
-  std::size_t non_finite = 0;
-  if (!accept(rc::pointsFromCloud(cloud, sensor_to_camera, points_camera_, &non_finite),
-              "points")) {
+  std::size_t non_finite = 0, step = 1;
+  const std::size_t cap = pointCap(settings);
+  if (!accept(rc::pointsFromCloud(cloud, sensor_to_camera, cap, points_camera_, &non_finite, &step),
+              "points") ||
+      !accept(rc::checkPointsInFront(points_camera_), "points")) {
     return;
+  }
+  if (step > 1) {
+    diagnostics_.countSubsampled(step);
+    NODELET_WARN_THROTTLE(5.0,
+                          "cloud of %zu points read every %zu-th point (max_points %zu): set "
+                          "max_points, or max_neighbors for dense input, to change this",
+                          std::size_t(cloud.width) * cloud.height, step, cap);
   }
   DepthMap depth;
   try {
@@ -254,7 +358,20 @@ void DepthCompletionNodelet::processFrame(const sensor_msgs::PointCloud2& cloud,
   } catch (const InputError& e) {  // parameters and intrinsics were validated: not expected
     NODELET_ERROR_THROTTLE(5.0, "depth completion failed: %s", e.what());
     return;
+  } catch (const std::bad_alloc&) {
+    // One allocation too large for this host (the model's buffers grow with points and pixels):
+    // the set is lost, the node is not. Allocations inside the thread pool's workers cannot be
+    // caught here; max_points bounds the points so that they stay small.
+    accept(rc::ConversionStatus::failure(
+               rc::InputFault::kOutOfMemory,
+               "depth completion of " + std::to_string(points_camera_.size()) + " points on a " +
+                   std::to_string(image_size.width) + "x" + std::to_string(image_size.height) +
+                   " image ran out of memory"),
+           "points");
+    releaseOversizedBuffers();
+    return;
   }
+  releaseOversizedBuffers();
   publishOutputs(depth, settings, image_header, info, intrinsics, colour, receipt);
 }
 
@@ -303,13 +420,26 @@ bool DepthCompletionNodelet::lookupSensorToCamera(const std_msgs::Header& cloud_
   }
 }
 
-/// Counts and logs (throttled) a rejected input; true when `status` is ok.
+/// Counts and logs a rejected input, throttled per reason (one recurring fault must not hide
+/// another); true when `status` is ok.
 bool DepthCompletionNodelet::accept(const rc::ConversionStatus& status, const char* topic) {
   if (status.ok()) return true;
   diagnostics_.countFault(status.fault);
-  NODELET_ERROR_THROTTLE(2.0, "dropping input set: %s: %s [%s]", topic, status.reason.c_str(),
-                         rc::toString(status.fault));
+  const ros::WallTime now = ros::WallTime::now();
+  ros::WallTime& last = last_logged_[static_cast<std::size_t>(status.fault)];
+  if (last.isZero() || (now - last).toSec() >= 2.0) {
+    last = now;
+    NODELET_ERROR("dropping input set: %s: %s [%s]", topic, status.reason.c_str(),
+                  rc::toString(status.fault));
+  }
   return false;
+}
+
+/// One huge cloud must not pin its buffer for the rest of the run.
+void DepthCompletionNodelet::releaseOversizedBuffers() {
+  if (points_camera_.capacity() > 4 * points_camera_.size() + (1u << 16)) {
+    std::vector<Eigen::Vector3d>().swap(points_camera_);
+  }
 }
 
 void DepthCompletionNodelet::reconfigure(Config& config, uint32_t /*level*/) {

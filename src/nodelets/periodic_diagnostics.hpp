@@ -16,8 +16,11 @@ class PeriodicDiagnostics {
     updater_ = std::make_unique<diagnostic_updater::Updater>(nh, private_nh, node_name);
     updater_->setHardwareID("none");
     updater_->add(task, report);
+    // force_update: the timer is the period. Updater::update() compares with ros::Time, so after
+    // simulated time jumps back (a bag played in a loop) it would stay silent for the jump's
+    // length.
     timer_ = nh.createWallTimer(ros::WallDuration(0.5),
-                                [this](const ros::WallTimerEvent&) { updater_->update(); });
+                                [this](const ros::WallTimerEvent&) { updater_->force_update(); });
   }
 
  private:

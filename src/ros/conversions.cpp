@@ -52,8 +52,14 @@ const char* toString(InputFault fault) {
       return "camera_info_intrinsics";
     case InputFault::kCameraInfoSize:
       return "camera_info_size";
+    case InputFault::kCloudBehindCamera:
+      return "cloud_behind_camera";
     case InputFault::kTransformUnavailable:
       return "transform_unavailable";
+    case InputFault::kStampNotNewer:
+      return "stamp_not_newer";
+    case InputFault::kOutOfMemory:
+      return "out_of_memory";
   }
   return "unknown";
 }
@@ -191,13 +197,25 @@ ConversionStatus validateCloudLayout(const sensor_msgs::PointCloud2& cloud) {
 ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
                                  const Eigen::Isometry3d& sensor_to_camera,
                                  std::vector<Eigen::Vector3d>& points, std::size_t* non_finite) {
+  return pointsFromCloud(cloud, sensor_to_camera, 0, points, non_finite, nullptr);
+}
+
+ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                 const Eigen::Isometry3d& sensor_to_camera, std::size_t max_points,
+                                 std::vector<Eigen::Vector3d>& points, std::size_t* non_finite,
+                                 std::size_t* subsampled) {
   points.clear();
   XyzLayout layout;
   ConversionStatus status = validateCloud(cloud, layout);
   if (!status.ok()) return status;
-  points.reserve(std::size_t(cloud.width) * cloud.height);
-  std::size_t skipped = 0;
+  const std::size_t records = std::size_t(cloud.width) * cloud.height;
+  const std::size_t step =
+      max_points > 0 && records > max_points ? (records + max_points - 1) / max_points : 1;
+  if (subsampled) *subsampled = step;
+  points.reserve((records + step - 1) / step);
+  std::size_t skipped = 0, index = 0;
   forEachPoint(cloud, layout, [&](double x, double y, double z) {
+    if (index++ % step != 0) return;
     if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) {
       ++skipped;
       return;
@@ -206,11 +224,21 @@ ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
   });
   if (non_finite) *non_finite = skipped;
   if (points.empty()) {
-    return ConversionStatus::failure(
-        InputFault::kCloudNoFinitePoint,
-        concat("PointCloud2 has ", skipped, " points and none has finite x, y, z"));
+    return ConversionStatus::failure(InputFault::kCloudNoFinitePoint,
+                                     concat("PointCloud2 has ", skipped, step > 1 ? " sampled" : "",
+                                            " points and none has finite x, y, z"));
   }
   return ConversionStatus::success();
+}
+
+ConversionStatus checkPointsInFront(const std::vector<Eigen::Vector3d>& points_camera) {
+  for (const auto& p : points_camera) {
+    if (p.z() > 0.0) return ConversionStatus::success();
+  }
+  return ConversionStatus::failure(
+      InputFault::kCloudBehindCamera,
+      concat("none of the ", points_camera.size(),
+             " finite points is in front of the camera (z > 0 in the image frame)"));
 }
 
 ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,

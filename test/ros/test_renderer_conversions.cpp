@@ -201,6 +201,18 @@ TEST(RendererConversions, EachBadInputHasItsFault) {
   s.info.width = 16;
   EXPECT_EQ(faultOf(s), F::kCameraInfoSize);
   s = makeSet(2);
+  s.info.K[0] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(faultOf(s), F::kCameraInfoIntrinsics);
+  s = makeSet(2);
+  s.info.width = s.info.height = 0;
+  EXPECT_EQ(faultOf(s), F::kCameraInfoSize);
+  s = makeSet(2);
+  s.depth.encoding = enc::RGB8;  // a colour image on the depth topic
+  EXPECT_EQ(faultOf(s), F::kDepthImage);
+  s = makeSet(2);
+  s.depth.width = 0xFFFFFFFFu;  // "negative" width
+  EXPECT_EQ(faultOf(s), F::kDepthImage);
+  s = makeSet(2);
   s.image.width = 40;
   s.image.step = 120;
   s.image.data.resize(12 * 120);

@@ -10,6 +10,7 @@
 #include "multimodal_nvs/core/errors.hpp"
 #include "multimodal_nvs/ros/conversions.hpp"
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
+#include "multimodal_nvs/ros/input_timeline.hpp"
 
 namespace mm = multimodal_nvs;
 namespace rc = multimodal_nvs::ros_conversions;
@@ -150,6 +151,56 @@ TEST(CloudConversion, RejectsEveryMalformedLayoutWithItsReason) {
               c.row_step = 0xFFFFFFFF;
             }),
             InputFault::kCloudLayout);
+}
+
+TEST(CloudConversion, HugeCloudsAreReadEveryKthPoint) {
+  std::vector<Eigen::Vector3d> many;
+  for (int i = 0; i < 1000; ++i)
+    many.emplace_back(i, 0.0, 1.0);
+  const auto cloud = makeCloud<float>(many, sensor_msgs::PointField::FLOAT32, 10);
+  std::vector<Eigen::Vector3d> points;
+  std::size_t step = 0;
+  ASSERT_TRUE(
+      rc::pointsFromCloud(cloud, Eigen::Isometry3d::Identity(), 300, points, nullptr, &step).ok());
+  EXPECT_EQ(step, 4u);  // ceil(1000 / 300)
+  ASSERT_EQ(points.size(), 250u);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    EXPECT_EQ(points[i].x(), 4.0 * i);  // across the rows of the organised cloud
+  ASSERT_TRUE(
+      rc::pointsFromCloud(cloud, Eigen::Isometry3d::Identity(), 1000, points, nullptr, &step).ok());
+  EXPECT_EQ(step, 1u);
+  EXPECT_EQ(points.size(), 1000u);
+}
+
+TEST(CloudConversion, RejectsACloudEntirelyBehindTheCamera) {
+  std::vector<Eigen::Vector3d> points = {{1, 2, -3}, {0, 0, 0}, {4, 5, -0.1}};
+  EXPECT_EQ(rc::checkPointsInFront(points).fault, InputFault::kCloudBehindCamera);
+  points.emplace_back(0, 0, 0.01);
+  EXPECT_TRUE(rc::checkPointsInFront(points).ok());
+  EXPECT_STREQ(rc::toString(InputFault::kCloudBehindCamera), "cloud_behind_camera");
+}
+
+TEST(InputTimeline, DuplicatesAndReorderedStampsAreNotNewerALongJumpIsARestart) {
+  mm::StampOrder order(ros::Duration(1.0));
+  using V = mm::StampOrder::Verdict;
+  EXPECT_EQ(order.check(ros::Time(100.0)), V::kNewer);
+  EXPECT_EQ(order.check(ros::Time(100.0)), V::kNotNewer);  // duplicate
+  EXPECT_EQ(order.check(ros::Time(99.5)), V::kNotNewer);   // reordered
+  EXPECT_EQ(order.check(ros::Time(100.1)), V::kNewer);
+  EXPECT_EQ(order.check(ros::Time(40.0)), V::kRestart);  // a replayed bag
+  EXPECT_EQ(order.last(), ros::Time(40.0));
+  EXPECT_EQ(order.check(ros::Time(40.1)), V::kNewer);
+  order.reset();
+  EXPECT_EQ(order.check(ros::Time(1.0)), V::kNewer);
+
+  mm::ClockWatch clock;
+  ros::Duration jump;
+  EXPECT_FALSE(clock.jumpedBack(ros::Time(10.0), &jump));
+  EXPECT_FALSE(clock.jumpedBack(ros::Time(10.0), &jump));
+  EXPECT_FALSE(clock.jumpedBack(ros::Time(11.0), &jump));
+  EXPECT_TRUE(clock.jumpedBack(ros::Time(2.0), &jump));
+  EXPECT_DOUBLE_EQ(jump.toSec(), 9.0);
+  EXPECT_FALSE(clock.jumpedBack(ros::Time(2.5), &jump));
 }
 
 TEST(CloudConversion, FloatOverloadMatches) {

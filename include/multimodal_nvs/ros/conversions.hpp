@@ -31,6 +31,7 @@ enum class InputFault {
   kCloudBigEndian,      ///< byte order differs from the host's
   kCloudEmpty,          ///< width * height == 0
   kCloudNoFinitePoint,  ///< every point has a NaN or Inf coordinate
+  kCloudBehindCamera,   ///< no finite point has a positive depth in the camera frame
   // Image / CompressedImage
   kImageEncoding,  ///< not rgb8, bgr8, rgba8, bgra8 or mono8
   kImageStep,      ///< step < width * channels, or data shorter than step * height
@@ -41,8 +42,11 @@ enum class InputFault {
   kCameraInfoSize,        ///< CameraInfo width/height differ from the image's
   // Pairing
   kTransformUnavailable,  ///< no tf from the cloud frame to the image frame at the cloud stamp
+  kStampNotNewer,         ///< image stamp equal to (duplicate) or just before the last set's
+  // Resources
+  kOutOfMemory,  ///< the model could not allocate its buffers for this set
 };
-constexpr int kInputFaultCount = static_cast<int>(InputFault::kTransformUnavailable) + 1;
+constexpr int kInputFaultCount = static_cast<int>(InputFault::kOutOfMemory) + 1;
 
 /// Short snake_case name of the fault, used as the diagnostics key.
 const char* toString(InputFault fault);
@@ -72,6 +76,17 @@ ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
 /// Same without a transform, in float (for tools and tests).
 ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
                                  std::vector<Eigen::Vector3f>& points);
+
+/// The same, reading at most about `max_points` records: with more, every k-th record (k =
+/// ceil(width * height / max_points)) so that a huge cloud costs neither the memory of all its
+/// points nor the model's time on them. `subsampled` (optional) receives k. 0: every record.
+ConversionStatus pointsFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                 const Eigen::Isometry3d& sensor_to_camera, std::size_t max_points,
+                                 std::vector<Eigen::Vector3d>& points, std::size_t* non_finite,
+                                 std::size_t* subsampled);
+
+/// kCloudBehindCamera unless a point (camera frame) has z > 0: without one no pixel has a depth.
+ConversionStatus checkPointsInFront(const std::vector<Eigen::Vector3d>& points_camera);
 
 /// Checks everything `pointsFromCloud` checks about the layout without reading a point.
 ConversionStatus validateCloudLayout(const sensor_msgs::PointCloud2& cloud);
