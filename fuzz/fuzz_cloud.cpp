@@ -1,6 +1,6 @@
 // PointCloud2 -> core points (ros_conversions::pointsFromCloud, validateCloudLayout): header, field
 // list and data all come from the input (layout in fuzz_input.hpp). Besides memory errors and UB,
-// checks that the three entry points agree and that every point is accounted for.
+// checks that the entry points agree and that every (sampled) point is accounted for.
 #include <Eigen/Geometry>
 #include <cmath>
 
@@ -45,6 +45,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   } else {
     MMNVS_FUZZ_CHECK(points.empty());
+  }
+
+  // Subsampled reading (huge clouds): every k-th record, k = ceil(total / max_points). The limit
+  // comes from the input size so that the encoding of the cloud stays the same.
+  const std::size_t max_points = size % 7;
+  std::size_t step = 0, sampled_non_finite = 0;
+  std::vector<Eigen::Vector3d> sampled;
+  const rc::ConversionStatus sampled_status =
+      rc::pointsFromCloud(cloud, sensor_to_camera, max_points, sampled, &sampled_non_finite, &step);
+  MMNVS_FUZZ_CHECK(sampled_status.ok() || !sampled_status.reason.empty());
+  if (sampled_status.ok()) {
+    MMNVS_FUZZ_CHECK(step >= 1);
+    MMNVS_FUZZ_CHECK(max_points == 0 || sampled.size() <= max_points);
+    MMNVS_FUZZ_CHECK(sampled.size() + sampled_non_finite == (total + step - 1) / step);
   }
   return 0;
 }
