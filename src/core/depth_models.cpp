@@ -45,7 +45,6 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
   const LocalGpParams& gp = params.gp;
   fillPredictions(angles, static_cast<float>(prior.constant),
                   static_cast<float>(gp.priorVariance()), pool, out);
-  if (prior.per_pixel != nullptr) out.mean = *prior.per_pixel;
 
   // Storage for every set's posterior, laid out by prefix sums so sets can be solved in parallel.
   const int set_count = sets.setCount();
@@ -178,11 +177,6 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
                         length_scales[seg.set_id], gp, az + seg.col_begin, el + seg.col_begin,
                         seg.col_end - seg.col_begin, prior.constant, out.mean.data() + pixel,
                         out.variance.data() + pixel);
-      if (prior.per_pixel != nullptr) {
-        for (std::size_t p = pixel; p < pixel + (seg.col_end - seg.col_begin); ++p) {
-          out.mean[p] += (*prior.per_pixel)[p];
-        }
-      }
     }
   }, 4);
 }

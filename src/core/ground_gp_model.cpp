@@ -23,6 +23,13 @@ namespace multimodal_nvs {
 namespace {
 // A return within this fraction of the ground depth along its ray counts as a ground return.
 constexpr double kGroundMargin = 0.1;
+
+// The prior: min(ground depth, surface depth), the far value where neither bounds the depth.
+// std::min and std::isfinite spelled out: GCC does not vectorise the full-image pass with them.
+inline float priorDepth(float ground, float nearest, float far) {
+  const float prior = nearest < ground ? nearest : ground;
+  return std::fabs(prior) <= std::numeric_limits<float>::max() ? prior : far;
+}
 }  // namespace
 
 void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
@@ -43,40 +50,25 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
     }
   }
   // The prior's uncertainty grows with the distance to the nearest return of any kind, found in
-  // the same lattice pass.
-  NearestSurface surface =
-      nearestSurfaceDepth(objects, angles, g.surface_k, g.surface_rank, step, pool,
-                          objects.size() == samples.size() ? nullptr : &samples);
-  const std::vector<float>& support_distance = surface.distance_deg;
-  // prior = min(ground depth, surface depth), in place of the surface depth; the far value only
-  // where neither the ground nor any sample bounds the depth. The ground depth of a pixel ray
-  // is -h / (up . d) with the descent up . d affine in the pixel position (groundPriorDepth, fused
-  // here to save a full-image pass).
-  std::vector<float>& prior = surface.depth;
-  const PinholeIntrinsics& intrinsics = angles.intrinsics();
-  const StrideGrid& prior_grid = angles.grid();
-  const long long rows = prior_grid.rows();
-  const std::size_t cols = static_cast<std::size_t>(prior_grid.cols());
-  pool.parallelFor(
-      rows,
-      [&](long long r, int) {
-        const double y = (r * prior_grid.stride - intrinsics.cy) / intrinsics.fy;
-        const float farf = static_cast<float>(far);
-        for (std::size_t c = 0; c < cols; ++c) {
-          const double x = (double(c) * prior_grid.stride - intrinsics.cx) / intrinsics.fx;
-          const float ground = static_cast<float>(plane.depthAlong(x, y));
-          float& p = prior[r * cols + c];
-          p = std::min(ground, p);
-          if (!std::isfinite(p)) p = farf;
-        }
-      },
-      16);
+  // the same lattice pass. The lattice stays coarse: the prior
+  //   prior = min(ground depth, surface depth), the far value where neither bounds the depth,
+  // is only formed in the final full-image pass (and at the samples), so no full-resolution prior
+  // is written, copied and read back.
+  const NearestSurfaceRows surface =
+      nearestSurfaceRows(objects, angles, g.surface_k, g.surface_rank, step, pool,
+                         objects.size() == samples.size() ? nullptr : &samples);
+  const PinholeIntrinsics& k = angles.intrinsics();
+  const StrideGrid& grid = angles.grid();
+  const int rows = grid.rows(), cols = grid.cols();
+  const float farf = static_cast<float>(far);
+  // The ground depth of a pixel ray is -h / (up . d), with x = X/Z per column.
+  std::vector<double> column_x(cols);
+  for (int c = 0; c < cols; ++c)
+    column_x[c] = (double(c) * grid.stride - k.cx) / k.fx;
 
   if (g.residual_amplitude > 0.0) {
-    // The prior at each sample's own direction: ground capped by the surface estimate of the
-    // nearest grid pixel (the lattice is only known on the grid).
-    const PinholeIntrinsics& k = angles.intrinsics();
-    const StrideGrid& grid = angles.grid();
+    // The prior at each sample's own direction: ground capped by the prior of the nearest grid
+    // pixel (the lattice is only known on the grid).
     std::vector<double> residual(samples.size(), 0.0);
     for (std::size_t i = 0; i < samples.size(); ++i) {
       const Eigen::Vector2d ray =
@@ -84,8 +76,10 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
       const int c = static_cast<int>(std::lround((k.fx * ray.x() + k.cx) / grid.stride));
       const int r = static_cast<int>(std::lround((k.fy * ray.y() + k.cy) / grid.stride));
       double at_sample = plane.depthAlong(ray.x(), ray.y());
-      if (r >= 0 && c >= 0 && r < grid.rows() && c < grid.cols()) {
-        at_sample = std::min<double>(at_sample, surface.depth[std::size_t(r) * grid.cols() + c]);
+      if (r >= 0 && c >= 0 && r < rows && c < cols) {
+        const double y = (r * grid.stride - k.cy) / k.fy;
+        const float ground = static_cast<float>(plane.depthAlong(column_x[c], y));
+        at_sample = std::min<double>(at_sample, priorDepth(ground, surface.depth(r, c), farf));
       }
       // A return behind the prior surface is an occluded or multipath return: it says nothing
       // about the first surface, so it only confirms the prior (residual 0). A nearer return
@@ -98,23 +92,48 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
     }
     DepthCompletionParams residual_params = params;
     residual_params.gp.amplitude = g.residual_amplitude;
-    predictLocalGp(samples, residual, angles, sets, residual_params, PriorMean{0.0, &prior}, pool,
-                   out);
+    // The GP around a zero mean: out.mean is the residual's posterior mean (0 without a set); the
+    // prior is added below.
+    predictLocalGp(samples, residual, angles, sets, residual_params, PriorMean{0.0}, pool, out);
   } else {
-    out.mean = prior;
-    out.variance.assign(prior.size(), 0.0f);
+    fillPredictions(angles, 0.0f, 0.0f, pool, out);
   }
   pool.parallelFor(
       rows,
       [&](long long r, int) {
-        for (std::size_t p = r * cols; p < (r + 1) * cols; ++p) {
+        const double y = (r * grid.stride - k.cy) / k.fy;
+        const NearestSurfaceRows::RowWeights w = surface.row(static_cast<int>(r));
+        // Restrict-qualified so that the compiler vectorises the pass.
+        float* __restrict const mean_row = out.mean.data() + r * cols;
+        float* __restrict const variance_row = out.variance.data() + r * cols;
+        const float* __restrict const depth_lo = w.depth_lo;
+        const float* __restrict const depth_hi = w.depth_hi;
+        const float* __restrict const distance_lo = w.distance_lo;
+        const float* __restrict const distance_hi = w.distance_hi;
+        const double* __restrict const xs = column_x.data();
+        // Loop invariants in locals: loads through `plane` or `g` inside the loop would stop
+        // vectorisation (they might alias the stores).
+        const bool has_depth = surface.has_depth;
+        const double up_x = plane.up.x(), up_y = plane.up.y() * y, up_z = plane.up.z();
+        const double height = plane.height;
+        const double rel = g.relative_sigma, rel_per_deg = g.relative_sigma_per_deg;
+        const float t = w.t, far_value = farf;
+        for (int c = 0; c < cols; ++c) {
+          // plane.depthAlong(xs[c], y) and the surface depth as selects, not branches (the same
+          // arithmetic), so that the loop vectorises (with -fno-trapping-math, CMakeLists.txt).
+          const double descent = up_x * xs[c] + up_y + up_z;
+          const double ground_depth = -height / descent;
+          const float ground = static_cast<float>(descent < 0.0 ? ground_depth : INFINITY);
+          const float lerped = NearestSurfaceRows::lerp(depth_lo[c], depth_hi[c], t);
+          const float nearest = has_depth ? lerped : INFINITY;
+          const float prior = priorDepth(ground, nearest, far_value);
+          const float support_distance =
+              NearestSurfaceRows::lerp(distance_lo[c], distance_hi[c], t);
           // A depth is positive: the residual GP must not push a near prior through the camera.
-          const float mean = std::max(out.mean[p], 0.1f);
-          const float sigma =
-              mean *
-              static_cast<float>(g.relative_sigma + g.relative_sigma_per_deg * support_distance[p]);
-          out.mean[p] = mean;
-          out.variance[p] += sigma * sigma;
+          const float mean = std::max(mean_row[c] + prior, 0.1f);
+          const float sigma = mean * static_cast<float>(rel + rel_per_deg * support_distance);
+          mean_row[c] = mean;
+          variance_row[c] += sigma * sigma;
         }
       },
       16);

@@ -85,14 +85,15 @@ void nearestBruteForce(const std::vector<float>& az, const std::vector<float>& e
 
 }  // namespace
 
-NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
-                                   const PixelAngleGrid& angles, int k, int rank, int step,
-                                   ThreadPool& pool, const std::vector<AngularSample>* support) {
+NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
+                                      const PixelAngleGrid& angles, int k, int rank, int step,
+                                      ThreadPool& pool, const std::vector<AngularSample>* support) {
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
-  NearestSurface out;
-  out.depth.assign(std::size_t(rows) * cols, INFINITY);
-  out.distance_deg.assign(std::size_t(rows) * cols, INFINITY);
+  NearestSurfaceRows out;
+  out.cols = cols;
+  step = std::max(1, step);
+  out.step = step;
   // Only samples in front of the camera can be a pixel's surface.
   std::vector<AngularSample> front;
   for (const auto& s : samples) {
@@ -106,7 +107,21 @@ NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
     }
   }
   const bool separate_support = support != nullptr;
-  if (front.empty() && support_front.empty()) return out;
+  // Lattice nodes at every step-th row/column plus the last one, so interpolation covers the grid.
+  auto nodes = [step](int size) {
+    std::vector<int> n;
+    for (int i = 0; i < size; i += step)
+      n.push_back(i);
+    if (n.back() != size - 1) n.push_back(size - 1);
+    return n;
+  };
+  out.node_rows = nodes(rows);
+  if (front.empty() && support_front.empty()) {
+    out.depth_rows.assign(out.node_rows.size() * cols, INFINITY);
+    out.distance_rows.assign(out.node_rows.size() * cols, INFINITY);
+    return out;
+  }
+  out.has_depth = !front.empty();
   const AngularBins bins(front, 1.0);
   const AngularBins support_bins(support_front, 1.0);
   const bool support_brute_force = support_front.size() <= kBruteForceMaxSamples;
@@ -122,16 +137,8 @@ NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
     front_el[i] = front[i].elevation_deg;
   }
   std::vector<std::vector<float>> distances(pool.size());
-  step = std::max(1, step);
-  // Lattice nodes at every step-th row/column plus the last one, so interpolation covers the grid.
-  auto nodes = [step](int size) {
-    std::vector<int> n;
-    for (int i = 0; i < size; i += step)
-      n.push_back(i);
-    if (n.back() != size - 1) n.push_back(size - 1);
-    return n;
-  };
-  const std::vector<int> node_rows = nodes(rows), node_cols = nodes(cols);
+  const std::vector<int>& node_rows = out.node_rows;
+  const std::vector<int> node_cols = nodes(cols);
   const std::size_t lattice_cols = node_cols.size();
   std::vector<float> node_depth(node_rows.size() * lattice_cols);
   std::vector<float> node_distance(node_rows.size() * lattice_cols);
@@ -180,32 +187,58 @@ NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
                            : static_cast<float>(std::sqrt(scratch[worker].front().first));
     }
   });
-  // Bilinear interpolation between lattice nodes.
-  pool.parallelFor(static_cast<long long>(node_rows.size()) - 1, [&](long long i, int) {
-    const int r0 = node_rows[i], r1 = node_rows[i + 1];
-    for (int r = r0; r <= r1; ++r) {
-      const float ty = r1 > r0 ? float(r - r0) / float(r1 - r0) : 0.0f;
-      for (std::size_t j = 0; j + 1 < lattice_cols; ++j) {
-        const int c0 = node_cols[j], c1 = node_cols[j + 1];
-        for (int c = c0; c <= c1; ++c) {
-          const float tx = c1 > c0 ? float(c - c0) / float(c1 - c0) : 0.0f;
-          auto lerp = [&](const std::vector<float>& v) {
-            const float a = v[i * lattice_cols + j], b = v[i * lattice_cols + j + 1];
-            const float d = v[(i + 1) * lattice_cols + j], e = v[(i + 1) * lattice_cols + j + 1];
-            return (1 - ty) * ((1 - tx) * a + tx * b) + ty * ((1 - tx) * d + tx * e);
-          };
-          if (!front.empty()) out.depth[std::size_t(r) * cols + c] = lerp(node_depth);
-          out.distance_deg[std::size_t(r) * cols + c] = lerp(node_distance);
-        }
-      }
+  // Interpolation along each lattice row (the first half of the bilinear interpolation).
+  out.depth_rows.assign(node_rows.size() * cols, INFINITY);
+  out.distance_rows.resize(node_rows.size() * cols);
+  pool.parallelFor(static_cast<long long>(node_rows.size()), [&](long long i, int) {
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t j =
+          lattice_cols == 1 ? 0 : std::min<std::size_t>(c / step, lattice_cols - 2);
+      const std::size_t j1 = std::min(j + 1, lattice_cols - 1);
+      const int c0 = node_cols[j], c1 = node_cols[j1];
+      const float tx = c1 > c0 ? float(c - c0) / float(c1 - c0) : 0.0f;
+      auto lerp = [&](const std::vector<float>& v) {
+        return (1 - tx) * v[i * lattice_cols + j] + tx * v[i * lattice_cols + j1];
+      };
+      if (!front.empty()) out.depth_rows[i * cols + c] = lerp(node_depth);
+      out.distance_rows[i * cols + c] = lerp(node_distance);
     }
   });
-  if (node_rows.size() == 1) {  // a single row: copy the nodes along it
-    for (std::size_t j = 0; j < lattice_cols; ++j) {
-      if (!front.empty()) out.depth[node_cols[j]] = node_depth[j];
-      out.distance_deg[node_cols[j]] = node_distance[j];
-    }
-  }
+  return out;
+}
+
+NearestSurfaceRows::RowWeights NearestSurfaceRows::row(int r) const {
+  const std::size_t n = node_rows.size();
+  const std::size_t i = n == 1 ? 0 : std::min<std::size_t>(r / step, n - 2);
+  const std::size_t i1 = std::min(i + 1, n - 1);
+  const int r0 = node_rows[i], r1 = node_rows[i1];
+  return {depth_rows.data() + i * cols, depth_rows.data() + i1 * cols,
+          distance_rows.data() + i * cols, distance_rows.data() + i1 * cols,
+          r1 > r0 ? float(r - r0) / float(r1 - r0) : 0.0f};
+}
+
+NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
+                                   const PixelAngleGrid& angles, int k, int rank, int step,
+                                   ThreadPool& pool, const std::vector<AngularSample>* support) {
+  const NearestSurfaceRows lattice =
+      nearestSurfaceRows(samples, angles, k, rank, step, pool, support);
+  const int rows = angles.grid().rows(), cols = angles.grid().cols();
+  NearestSurface out;
+  out.depth.assign(std::size_t(rows) * cols, INFINITY);
+  out.distance_deg.resize(std::size_t(rows) * cols);
+  pool.parallelFor(
+      rows,
+      [&](long long r, int) {
+        const NearestSurfaceRows::RowWeights w = lattice.row(static_cast<int>(r));
+        for (int c = 0; c < cols; ++c) {
+          if (lattice.has_depth) {
+            out.depth[r * cols + c] = NearestSurfaceRows::lerp(w.depth_lo[c], w.depth_hi[c], w.t);
+          }
+          out.distance_deg[r * cols + c] =
+              NearestSurfaceRows::lerp(w.distance_lo[c], w.distance_hi[c], w.t);
+        }
+      },
+      16);
   return out;
 }
 

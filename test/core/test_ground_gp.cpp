@@ -214,6 +214,41 @@ TEST(GroundPrior, SupportDistanceComesFromTheSupportSet) {
   EXPECT_LT(with.distance_deg[at_second], 1e-3f);
 }
 
+TEST(GroundPrior, SurfaceRowsInterpolateLikeTheFullResolutionPrior) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  const auto samples = mm::toAngularSamples({pointOnPixelRay(smallCamera(), 20, 20, 5.0),
+                                             pointOnPixelRay(smallCamera(), 120, 100, 9.0),
+                                             pointOnPixelRay(smallCamera(), 70, 50, 14.0)});
+  // A lattice step that does not divide the grid: the last row and column are extra nodes.
+  const auto full = mm::nearestSurfaceDepth(samples, angles, 2, 1, 7, pool);
+  const auto rows = mm::nearestSurfaceRows(samples, angles, 2, 1, 7, pool);
+  ASSERT_TRUE(rows.has_depth);
+  for (int r = 0; r < angles.grid().rows(); ++r) {
+    const auto w = rows.row(r);
+    for (int c = 0; c < angles.grid().cols(); ++c) {
+      const std::size_t p = std::size_t(r) * angles.grid().cols() + c;
+      ASSERT_EQ(rows.depth(r, c), full.depth[p]) << r << "," << c;
+      ASSERT_EQ(mm::NearestSurfaceRows::lerp(w.distance_lo[c], w.distance_hi[c], w.t),
+                full.distance_deg[p]);
+    }
+  }
+  // Without samples: no surface anywhere.
+  const auto none = mm::nearestSurfaceRows({}, angles, 2, 1, 7, pool);
+  EXPECT_FALSE(none.has_depth);
+  EXPECT_TRUE(std::isinf(none.depth(5, 5)));
+}
+
+TEST(GroundPrior, SingleColumnGridIsCoveredByTheLattice) {
+  // A one-pixel-wide grid has a single lattice column: every pixel still gets the surface.
+  const mm::PixelAngleGrid angles(smallCamera(), {{120, 1}, 1});
+  mm::ThreadPool pool(2);
+  const auto samples = mm::toAngularSamples({pointOnPixelRay(smallCamera(), 0, 60, 6.0)});
+  const auto full = mm::nearestSurfaceDepth(samples, angles, 1, 1, 16, pool);
+  for (float d : full.depth)
+    EXPECT_FLOAT_EQ(d, 6.0f);
+}
+
 // --- calibration ---------------------------------------------------------------------------------
 
 TEST(Calibration, CentralNormalQuantiles) {

@@ -23,10 +23,10 @@ constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
 void fillPredictions(const PixelAngleGrid& angles, float mean, float variance, ThreadPool& pool,
                      PixelPredictions& out);
 
-/// The GP's prior mean: a constant (the reference's shift) or one value per grid pixel.
+/// The GP's prior mean: a constant (the reference's shift). A per-pixel prior (ground_gp) is added
+/// by the caller in its own final pass over the image, which saves copying it into the output.
 struct PriorMean {
   double constant = 0.0;
-  const std::vector<float>* per_pixel = nullptr;  ///< if set, used instead of the constant
 };
 
 /// Exact local GP with marginal-likelihood length scale (reference `local_gp_mle`). Pixels without

@@ -1,5 +1,6 @@
 #pragma once
 #include <Eigen/Core>
+#include <cmath>
 #include <vector>
 
 #include "multimodal_nvs/core/angular_projection.hpp"
@@ -48,5 +49,36 @@ NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
                                    const PixelAngleGrid& angles, int k, int rank, int step,
                                    ThreadPool& pool,
                                    const std::vector<AngularSample>* support = nullptr);
+
+/// nearestSurfaceDepth before its interpolation between lattice rows: the lattice rows
+/// interpolated along every grid column. A caller with its own full-image pass (ground_gp's sparse
+/// mode) finishes the interpolation there, instead of writing and re-reading two full-resolution
+/// arrays. Same arithmetic, so the same values as nearestSurfaceDepth.
+struct NearestSurfaceRows {
+  int cols = 0, step = 1;
+  bool has_depth = false;      ///< false without samples: depth() is +inf everywhere
+  std::vector<int> node_rows;  ///< grid rows of the lattice (every step-th and the last)
+  std::vector<float> depth_rows, distance_rows;  ///< node_rows.size() x cols
+
+  /// Where grid row r lies: between lattice rows `lower` and `lower + 1` (clamped) at weight t.
+  struct RowWeights {
+    const float* depth_lo;
+    const float* depth_hi;
+    const float* distance_lo;
+    const float* distance_hi;
+    float t;
+  };
+  RowWeights row(int r) const;
+  static float lerp(float lo, float hi, float t) { return (1 - t) * lo + t * hi; }
+  float depth(int r, int c) const {
+    if (!has_depth) return INFINITY;
+    const RowWeights w = row(r);
+    return lerp(w.depth_lo[c], w.depth_hi[c], w.t);
+  }
+};
+NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
+                                      const PixelAngleGrid& angles, int k, int rank, int step,
+                                      ThreadPool& pool,
+                                      const std::vector<AngularSample>* support = nullptr);
 
 }  // namespace multimodal_nvs
