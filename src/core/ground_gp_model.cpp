@@ -166,10 +166,97 @@ constexpr double kDenseBinDeg = 0.5;
 // A sample at the pixel's own direction must not take infinite weight in the edge vote:
 // (0.01 deg)^2, far below any sample spacing.
 constexpr double kVoteDistanceFloorDeg2 = 1e-4;
+// Half-width of a column's band of returns for the upward extension, in mean sample spacings.
+constexpr double kColumnBandSpacings = 0.5;
 
 struct DenseVertexInfo {
   bool ground[3];
 };
+
+// Above the highest ring (the triangulation's hull ends there, and its hull-edge triangles
+// interpolate across whatever lies at the two ends). What the camera sees there is mostly
+// vertical structure: facades, poles, trees, vehicles' sides. For a level camera a vertical line
+// of the world lies on one image column at one camera depth z, so the best guess above the
+// topmost return of a column is that return's depth (the column extension of ipbasic, here on
+// the return itself rather than on a dilated image). Its uncertainty is the surface's own, growing
+// with the angular distance above the return: the higher, the likelier the structure has ended.
+// A column whose topmost return is on the ground has no structure to extend and keeps the
+// nearest-sample prior.
+void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAngleGrid& angles,
+                         const GroundPlane& plane, const std::vector<std::uint8_t>& filled,
+                         const GroundPriorParams& g, ThreadPool& pool, PixelPredictions& out) {
+  const StrideGrid& grid = angles.grid();
+  const PinholeIntrinsics& k = angles.intrinsics();
+  const int rows = grid.rows(), cols = grid.cols();
+  struct Projected {
+    double u, v;  // grid coordinates
+    float z;
+  };
+  std::vector<Projected> projected;
+  double v0 = INFINITY, v1 = -INFINITY;
+  for (const AngularSample& s : usable) {
+    double u = 0, v = 0;
+    if (!angularToPixel(k, s.azimuth_deg, s.elevation_deg, &u, &v)) continue;
+    u /= grid.stride;
+    v /= grid.stride;
+    if (u < -1.0 || u > cols || v > rows) continue;
+    projected.push_back({u, v, s.depth});
+    v0 = std::min(v0, v);
+    v1 = std::max(v1, v);
+  }
+  if (projected.empty()) return;
+  // A column's returns: those within half the mean sample spacing (grid pixels) of it, so that
+  // each column sees about one return per ring and no neighbour's.
+  const double spacing = std::sqrt(std::max(1.0, v1 - v0) * cols / double(projected.size()));
+  const double band = kColumnBandSpacings * spacing;
+  std::vector<double> top_v(cols, INFINITY);
+  std::vector<float> top_z(cols, INFINITY);
+  for (const Projected& q : projected) {
+    const int c0 = std::max(0, static_cast<int>(std::ceil(q.u - band)));
+    const int c1 = std::min(cols - 1, static_cast<int>(std::floor(q.u + band)));
+    for (int c = c0; c <= c1; ++c) {
+      // The topmost return; on a tie the nearer one (the first surface).
+      if (q.v < top_v[c] || (q.v == top_v[c] && q.z < top_z[c])) {
+        top_v[c] = q.v;
+        top_z[c] = q.z;
+      }
+    }
+  }
+  // A column between two bands (the spacing is a mean): the nearest covered column's return.
+  const std::vector<double> band_v = top_v;
+  const std::vector<float> band_z = top_z;
+  const int reach = static_cast<int>(std::ceil(spacing));
+  for (int c = 0; c < cols; ++c) {
+    for (int d = 1; d <= reach && !std::isfinite(top_z[c]); ++d) {
+      for (const int n : {c - d, c + d}) {
+        if (n >= 0 && n < cols && std::isfinite(band_z[n]) && !std::isfinite(top_z[c])) {
+          top_v[c] = band_v[n];
+          top_z[c] = band_z[n];
+        }
+      }
+    }
+  }
+  const double deg_per_px = grid.stride * 180.0 / (M_PI * k.fy);
+  pool.parallelFor(
+      cols,
+      [&](long long c, int) {
+        if (!std::isfinite(top_z[c]) || top_v[c] <= 0.0) return;
+        const int top = std::min(rows, static_cast<int>(std::ceil(top_v[c])));
+        const double x = (double(c) * grid.stride - k.cx) / k.fx;
+        const double y = (top_v[c] * grid.stride - k.cy) / k.fy;
+        if (top_z[c] >= (1.0 - kGroundMargin) * plane.depthAlong(x, y)) return;  // ground
+        for (int r = 0; r < top; ++r) {
+          const std::size_t p = std::size_t(r) * cols + c;
+          if (filled[p]) continue;  // inside the triangulation: its interpolation stands
+          const double above = (top_v[c] - r) * deg_per_px;
+          const double sigma =
+              top_z[c] * (g.dense_relative_sigma + g.relative_sigma_per_deg * above);
+          out.mean[p] = top_z[c];
+          out.variance[p] = static_cast<float>(sigma * sigma);
+        }
+      },
+      16);
+}
 
 }  // namespace
 
@@ -291,7 +378,8 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
         return true;
       });
 
-  // Gaps (outside the samples' hull, e.g. above the highest LiDAR ring): the sparse mode's prior.
+  // Gaps (outside the samples' hull): the sparse mode's prior, and above the highest ring the
+  // extension of each column's topmost return.
   bool gaps = false;
   for (std::uint8_t f : filled)
     gaps |= f == 0;
@@ -310,6 +398,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
     out.mean[p] = mean;
     out.variance[p] = sigma * sigma;
   }
+  extendColumnsUpward(usable, angles, plane, filled, g, pool, out);
 }
 
 }  // namespace multimodal_nvs

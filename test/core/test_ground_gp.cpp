@@ -200,6 +200,51 @@ TEST(GroundGpDense, OcclusionEdgesAreNotBlended) {
   EXPECT_GT(map.variance[std::size_t(50) * 160 + 100], 1.0f);
 }
 
+TEST(GroundGpDense, ColumnsExtendTheirTopmostReturnUpward) {
+  // A wall 8 m ahead seen by rings from row 40 down (the LiDAR's highest ring at row 40), over a
+  // road 1.3 m below a level camera. A vertical surface keeps its camera depth along an image
+  // column, so above the top ring every column carries the wall's depth, more uncertain higher up.
+  const double wall = 8.0;
+  const auto scene = [wall](int, int v) {
+    return v > 60 ? std::min(wall, 1.3 / ((v - 60) / 100.0)) : wall;
+  };
+  const auto points = denseScan(40, 120, 4, scene);
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  params.ground.input = mm::GroundPriorParams::Input::kDense;
+  mm::DepthCompleter completer(2);
+  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  for (int u = 2; u < 158; u += 13) {
+    for (int v = 0; v < 38; v += 5) {
+      EXPECT_NEAR(map.depth[std::size_t(v) * 160 + u], wall, 1e-3) << u << "," << v;
+    }
+    // sigma / depth: the surface's own at the ring, plus relative_sigma_per_deg per degree above.
+    const auto relative_sigma = [&](int v) {
+      return std::sqrt(map.variance[std::size_t(v) * 160 + u]) / wall;
+    };
+    const double deg_per_px = 180.0 / (M_PI * 100.0);
+    EXPECT_NEAR(
+        relative_sigma(30),
+        params.ground.dense_relative_sigma + params.ground.relative_sigma_per_deg * 10 * deg_per_px,
+        1e-4);
+    EXPECT_GT(relative_sigma(0), relative_sigma(30));
+  }
+}
+
+TEST(GroundGpDense, ColumnsWhoseTopReturnIsGroundAreNotExtended) {
+  // Only road returns: nothing vertical to extend; the pixels above keep the nearest-sample prior,
+  // whose uncertainty starts at relative_sigma.
+  const auto road = [](int, int v) { return 1.3 / ((v - 60) / 100.0); };
+  const auto points = denseScan(70, 120, 4, road);
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  params.ground.input = mm::GroundPriorParams::Input::kDense;
+  mm::DepthCompleter completer(2);
+  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  const std::size_t above = std::size_t(50) * 160 + 80;
+  EXPECT_GE(std::sqrt(map.variance[above]) / map.depth[above], params.ground.relative_sigma);
+}
+
 TEST(GroundPrior, SupportDistanceComesFromTheSupportSet) {
   const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
   mm::ThreadPool pool(2);
