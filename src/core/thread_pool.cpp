@@ -11,7 +11,8 @@ int resolveThreadCount(int requested) {
 
 ThreadPool::ThreadPool(int threads) {
   const int total = resolveThreadCount(threads);
-  for (int w = 1; w < total; ++w) workers_.emplace_back([this, w] { workerLoop(w); });
+  for (int w = 1; w < total; ++w)
+    workers_.emplace_back([this, w] { workerLoop(w); });
 }
 
 ThreadPool::~ThreadPool() {
@@ -20,15 +21,26 @@ ThreadPool::~ThreadPool() {
     stop_ = true;
   }
   wake_.notify_all();
-  for (auto& t : workers_) t.join();
+  for (auto& t : workers_)
+    t.join();
 }
 
 void ThreadPool::runChunks(int worker) {
-  for (;;) {
-    const long long begin = next_.fetch_add(chunk_);
-    if (begin >= count_) return;
-    const long long end = std::min(count_, begin + chunk_);
-    for (long long i = begin; i < end; ++i) (*body_)(i, worker);
+  try {
+    for (;;) {
+      const long long begin = next_.fetch_add(chunk_);
+      if (begin >= count_) return;
+      const long long end = std::min(count_, begin + chunk_);
+      for (long long i = begin; i < end; ++i)
+        (*body_)(i, worker);
+    }
+  } catch (...) {
+    // An exception escaping a worker thread would call std::terminate (a std::bad_alloc on a huge
+    // input would kill the whole nodelet manager): keep the first one, hand out no further chunks,
+    // and let parallelFor rethrow it on the calling thread once every worker has stopped.
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!error_) error_ = std::current_exception();
+    next_.store(count_);
   }
 }
 
@@ -54,7 +66,8 @@ void ThreadPool::parallelFor(long long count, const std::function<void(long long
                              long long chunk) {
   if (count <= 0) return;
   if (workers_.empty() || count <= chunk) {
-    for (long long i = 0; i < count; ++i) body(i, 0);
+    for (long long i = 0; i < count; ++i)
+      body(i, 0);
     return;
   }
   {
@@ -71,6 +84,12 @@ void ThreadPool::parallelFor(long long count, const std::function<void(long long
   std::unique_lock<std::mutex> lock(mutex_);
   done_.wait(lock, [&] { return busy_ == 0; });
   body_ = nullptr;
+  if (error_) {
+    std::exception_ptr error = nullptr;
+    std::swap(error, error_);
+    lock.unlock();
+    std::rethrow_exception(error);
+  }
 }
 
 }  // namespace multimodal_nvs

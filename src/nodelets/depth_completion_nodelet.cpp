@@ -362,8 +362,8 @@ void DepthCompletionNodelet::processFrame(const sensor_msgs::PointCloud2& cloud,
     return;
   } catch (const std::bad_alloc&) {
     // One allocation too large for this host (the model's buffers grow with points and pixels):
-    // the set is lost, the node is not. Allocations inside the thread pool's workers cannot be
-    // caught here; max_points bounds the points so that they stay small.
+    // the set is lost, the node is not. The thread pool rethrows its workers' exceptions here;
+    // max_points keeps the allocations of a dense cloud small in the first place.
     accept(rc::ConversionStatus::failure(
                rc::InputFault::kOutOfMemory,
                "depth completion of " + std::to_string(points_camera_.size()) + " points on a " +

@@ -1,6 +1,7 @@
 #pragma once
 #include <atomic>
 #include <condition_variable>
+#include <exception>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -21,8 +22,9 @@ class ThreadPool {
 
   int size() const { return static_cast<int>(workers_.size()) + 1; }
 
-  /// Calls body(index, worker) for every index in [0, count); `worker` in [0, size()) identifies the
-  /// executing thread so that callers can keep per-thread scratch space. Blocks until done.
+  /// Calls body(index, worker) for every index in [0, count); `worker` in [0, size()) identifies
+  /// the executing thread so that callers can keep per-thread scratch space. Blocks until done. If
+  /// a body throws, the remaining indices are skipped and the first exception is rethrown here.
   void parallelFor(long long count, const std::function<void(long long, int)>& body,
                    long long chunk = 1);
 
@@ -41,6 +43,7 @@ class ThreadPool {
   int busy_ = 0;
   unsigned long long generation_ = 0;
   bool stop_ = false;
+  std::exception_ptr error_;  // first exception of the current loop, guarded by mutex_
 };
 
 int resolveThreadCount(int requested);
