@@ -168,9 +168,13 @@ constexpr double kDenseBinDeg = 0.5;
 constexpr double kVoteDistanceFloorDeg2 = 1e-4;
 // Half-width of a column's band of returns for the upward extension, in mean sample spacings.
 constexpr double kColumnBandSpacings = 0.5;
+// A triangle with an edge longer than this many mean sample spacings bridges a region without
+// returns; above a column's topmost return the column extension replaces its interpolation.
+constexpr double kBridgeSpacings = 20.0;
 
 struct DenseVertexInfo {
   bool ground[3];
+  float longest_edge_deg;
 };
 
 // Above the highest ring (the triangulation's hull ends there, and its hull-edge triangles
@@ -184,7 +188,8 @@ struct DenseVertexInfo {
 // nearest-sample prior.
 void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAngleGrid& angles,
                          const GroundPlane& plane, const std::vector<std::uint8_t>& filled,
-                         const GroundPriorParams& g, ThreadPool& pool, PixelPredictions& out) {
+                         const std::vector<float>& longest, const GroundPriorParams& g,
+                         ThreadPool& pool, PixelPredictions& out) {
   const StrideGrid& grid = angles.grid();
   const PinholeIntrinsics& k = angles.intrinsics();
   const int rows = grid.rows(), cols = grid.cols();
@@ -237,6 +242,7 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
     }
   }
   const double deg_per_px = grid.stride * 180.0 / (M_PI * k.fy);
+  const double bridge_deg = kBridgeSpacings * spacing * deg_per_px;
   pool.parallelFor(
       cols,
       [&](long long c, int) {
@@ -247,10 +253,13 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
         if (top_z[c] >= (1.0 - kGroundMargin) * plane.depthAlong(x, y)) return;  // ground
         for (int r = 0; r < top; ++r) {
           const std::size_t p = std::size_t(r) * cols + c;
-          if (filled[p]) continue;  // inside the triangulation: its interpolation stands
           const double above = (top_v[c] - r) * deg_per_px;
           const double sigma =
               top_z[c] * (g.dense_relative_sigma + g.relative_sigma_per_deg * above);
+          // Inside the triangulation its interpolation stands, unless the triangle bridges a
+          // region without returns (hull-edge triangles above the top ring reach across to
+          // whatever return is highest nearby, a pole top or a distant roof).
+          if (filled[p] && longest[p] <= bridge_deg) continue;
           out.mean[p] = top_z[c];
           out.variance[p] = static_cast<float>(sigma * sigma);
         }
@@ -304,6 +313,10 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
         for (int j = 0; j < 3; ++j) {
           const Eigen::Vector2d ray = normalisedFromAngles(t.az[j], t.el[j]);
           info[i].ground[j] = t.z[j] >= (1.0 - kGroundMargin) * plane.depthAlong(ray.x(), ray.y());
+          info[i].longest_edge_deg =
+              std::max(j == 0 ? 0.0f : info[i].longest_edge_deg,
+                       static_cast<float>(
+                           std::hypot(t.az[j] - t.az[(j + 1) % 3], t.el[j] - t.el[(j + 1) % 3])));
         }
       },
       1024);
@@ -316,11 +329,13 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
     return (ground[a] && ground[b]) || std::max(z[a], z[b]) <= ratio * std::min(z[a], z[b]);
   };
   std::vector<std::uint8_t> filled;
+  std::vector<float> longest(n, 0.0f);
   rasterizeTriangles(
       triangles, angles, pool, filled,
       [&](const AngularTriangle& t, double l0, double l1, double l2, std::size_t pixel, float az,
           float el) {
         const double l[3] = {std::max(0.0, l0), std::max(0.0, l1), std::max(0.0, l2)};
+        longest[pixel] = info[&t - triangles.data()].longest_edge_deg;
         const bool* ground = info[&t - triangles.data()].ground;
         const bool edge = !same_surface(ground, t.z, 0, 1) || !same_surface(ground, t.z, 0, 2) ||
                           !same_surface(ground, t.z, 1, 2);
@@ -398,7 +413,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
     out.mean[p] = mean;
     out.variance[p] = sigma * sigma;
   }
-  extendColumnsUpward(usable, angles, plane, filled, g, pool, out);
+  extendColumnsUpward(usable, angles, plane, filled, longest, g, pool, out);
 }
 
 }  // namespace multimodal_nvs

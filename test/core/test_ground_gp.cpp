@@ -231,6 +231,26 @@ TEST(GroundGpDense, ColumnsExtendTheirTopmostReturnUpward) {
   }
 }
 
+TEST(GroundGpDense, TrianglesBridgingAnEmptyRegionDoNotOverrideTheExtension) {
+  // The wall of the test above plus one high return far off to the right (a roof 7 % farther: the
+  // same surface for the edge test): the hull-edge triangles from the top ring up to it span the
+  // empty region above the ring, and interpolating across them would blend wall and roof.
+  const double wall = 8.0;
+  auto points = denseScan(40, 120, 2, [wall](int, int) { return wall; });
+  points.push_back(pointOnPixelRay(smallCamera(), 150, 2, 8.6));
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  params.ground.input = mm::GroundPriorParams::Input::kDense;
+  mm::DepthCompleter completer(2);
+  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  // Triangles with an edge over 20 mean spacings (here ~2 px, so ~23 deg) bridge; nearer the roof
+  // return the triangles are shorter and their interpolation stands.
+  for (const auto& [v, u] : {std::pair{20, 116}, {20, 124}, {30, 92}, {30, 100}, {30, 116}}) {
+    EXPECT_NEAR(map.depth[std::size_t(v) * 160 + u], wall, 1e-3) << v << "," << u;
+  }
+  EXPECT_GT(map.depth[std::size_t(20) * 160 + 140], wall + 0.1);
+}
+
 TEST(GroundGpDense, ColumnsWhoseTopReturnIsGroundAreNotExtended) {
   // Only road returns: nothing vertical to extend; the pixels above keep the nearest-sample prior,
   // whose uncertainty starts at relative_sigma.
