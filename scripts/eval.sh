@@ -157,8 +157,12 @@ if skipped synthetic; then
 elif [[ ! -x "$TOOLS/make_synthetic_scene" ]]; then
   progress "synthetic suite skipped: $TOOLS/make_synthetic_scene is not built"
 else
+  # The cache is reused only if it was generated with exactly these settings (keys in any order).
   if [[ "${EVAL_REGENERATE:-0}" == 1 || ! -f "$SYN/scene.json" ]] ||
-     ! grep -q '"frames": 16, "first_frame": 0, "seed": 1, "width": 968' "$SYN/scene.json"; then
+     ! "$PY" -c 'import json, sys
+s = json.load(open(sys.argv[1]))
+sys.exit(0 if (s.get("frames"), s.get("first_frame"), s.get("seed"), s.get("width")) == (16, 0, 1, 968) else 1)' \
+       "$SYN/scene.json"; then
     progress "synthetic: generating the scene (16 frames, scale 0.5)"
     rm -rf "$SYN"
     run_json "$LOGS/make_synthetic_scene.json" "$TOOLS/make_synthetic_scene" --output "$SYN" \
