@@ -111,14 +111,16 @@ std::vector<int> numpyArgsortQuicksort(const std::vector<std::int64_t>& keys) {
 std::vector<std::int64_t> referenceSampleRanks(const std::vector<AngularSample>& samples,
                                                double bin_deg) {
   // Keys as the reference forms them: floor(float32 angle / bin) as int32, packed into an int64
-  // with the elevation bin in the low 32 bits (two's complement, masked).
+  // with the elevation bin in the low 32 bits (two's complement, masked). The azimuth bin is
+  // scaled by 2^32 with a multiplication: left-shifting a negative value is undefined before
+  // C++20, and |bx| < 2^31 keeps the product in range.
   const float bin32 = static_cast<float>(bin_deg);
   std::vector<std::int64_t> keys(samples.size());
   std::vector<std::int32_t> bx(samples.size()), by(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) {
     bx[i] = static_cast<std::int32_t>(std::floor(samples[i].azimuth_deg / bin32));
     by[i] = static_cast<std::int32_t>(std::floor(samples[i].elevation_deg / bin32));
-    keys[i] = (static_cast<std::int64_t>(bx[i]) << 32) |
+    keys[i] = (static_cast<std::int64_t>(bx[i]) * (std::int64_t(1) << 32)) |
               (static_cast<std::int64_t>(by[i]) & 0xFFFFFFFFLL);
   }
   const std::vector<int> order = numpyArgsortQuicksort(keys);

@@ -72,6 +72,20 @@ TEST(NeighbourSets, EveryPixelSeesExactlyTheBruteForceNeighbours) {
   }
 }
 
+// Samples left of and below the optical axis have negative bins. Their keys were once formed by
+// left-shifting a negative int64 (undefined behaviour before C++20, reported by UBSan in the
+// sanitizer build of `make test`); the order must stay lexicographic in (azimuth bin, elevation
+// bin) across the sign change.
+TEST(NeighbourSets, SampleRanksOrderNegativeBinsBeforePositiveOnes) {
+  const std::vector<mm::AngularSample> samples = {
+      {5.5f, -3.5f, 10.0f}, {-7.5f, 2.5f, 10.0f}, {5.5f, 2.5f, 10.0f}, {-7.5f, -3.5f, 10.0f}};
+  const auto rank = mm::referenceSampleRanks(samples, 2.0);
+  // (bx, by): (2, -2), (-4, 1), (2, 1), (-4, -2).
+  EXPECT_LT(rank[3], rank[1]);
+  EXPECT_LT(rank[1], rank[0]);
+  EXPECT_LT(rank[0], rank[2]);
+}
+
 TEST(NeighbourSets, SharedSolutionEqualsPerPixelComputation) {
   const auto samples = randomSamples(40, 11);
   const mm::PixelAngleGrid grid(mm::test::smallCamera(), {mm::test::smallImage(), 2});
