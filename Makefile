@@ -23,9 +23,13 @@ build: configure
 	@echo "[build] compiling into $(BUILD_DIR) with $(JOBS) jobs"
 	@$(MAKE) --no-print-directory -C $(BUILD_DIR) -j$(JOBS) all
 
+# After the normal tests, run_tests.sh runs scripts/sanitizer_tests.sh (ASan+UBSan unit tests in
+# $(BUILD_DIR)_asan, TSan nodelet rostests in $(BUILD_DIR)_tsan) and counts them in its last line.
+# SANITIZERS=0 skips them for quick local runs; SANITIZERS=asan or tsan runs one.
+SANITIZERS ?= 1
 test: build
 	@$(MAKE) --no-print-directory -C $(BUILD_DIR) -j$(JOBS) tests
-	@scripts/run_tests.sh $(BUILD_DIR)
+	@SANITIZERS='$(SANITIZERS)' JOBS=$(JOBS) scripts/run_tests.sh $(BUILD_DIR)
 
 demo: build
 	@scripts/demo.sh $(BUILD_DIR)

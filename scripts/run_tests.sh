@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs every catkin test (gtest and rostest), then decides pass/fail from the result files:
+# Runs every catkin test (gtest and rostest) and the sanitizer builds' tests
+# (scripts/sanitizer_tests.sh), then decides pass/fail from the result files:
 # catkin's run_tests target exits 0 even when tests fail. Ends with one line "N passed, N failed".
 set -uo pipefail
 BUILD_DIR=${1:-build}
@@ -16,6 +17,12 @@ mkdir -p "$ROS_LOG_DIR"
 rm -rf "$BUILD_DIR/test_results"
 make --no-print-directory -C "$BUILD_DIR" run_tests -j1 2>&1 | tee "$BUILD_DIR/run_tests.log" \
   | grep -E '^\[ *(RUN|  *OK|  FAILED|  SKIPPED|  PASSED) |^\[ROSTEST\]|^ \* |FAILURE|Error' || true
+
+# The sanitizer builds write their JUnit results under test_results/sanitizers, so the summary
+# below counts them too. SANITIZERS=0 skips them.
+if [[ "${SANITIZERS:-1}" != 0 ]]; then
+  scripts/sanitizer_tests.sh "$BUILD_DIR" || echo "[sanitizers] FAILED (counted below)"
+fi
 
 summary=$(catkin_test_results --all "$BUILD_DIR/test_results" 2>&1 | tail -n 1)
 echo "$summary"
