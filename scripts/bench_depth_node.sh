@@ -3,6 +3,8 @@
 # radar parameters, feeds VoD frame 08350 (radar + 1936x1216 image) at 15 Hz and prints one JSON
 # line per output stride. Usage: scripts/bench_depth_node.sh [BUILD_DIR] [STRIDES...]
 #   e.g. scripts/bench_depth_node.sh build_ros 1 2 4
+# Environment: MODEL (default ground_gp, config/radar.yaml's), RATE (15 Hz), FRAMES (150),
+# WITH_POINTS=1 also subscribes to the coloured cloud.
 set -eo pipefail  # no -u: catkin's setup scripts read unset variables
 cd "$(dirname "$0")/.."
 BUILD_DIR=${1:-build}
@@ -22,7 +24,8 @@ FRAMES=${FRAMES:-150}
 
 for stride in $STRIDES; do
   params=$(mktemp --suffix=.yaml)
-  sed "s/^stride: .*/stride: $stride/" config/radar.yaml > "$params"
+  sed -e "s/^stride: .*/stride: $stride/" -e "s/^model: .*/model: ${MODEL:-ground_gp}/" \
+    config/radar.yaml > "$params"
   roslaunch -p "$PORT" multimodal_nvs depth_completion.launch params:="$params" \
     > "$ROS_LOG_DIR/bench_depth_node_launch.log" 2>&1 &
   launch_pid=$!
