@@ -4,12 +4,13 @@
 // every rejected input set by reason.
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <array>
+#include <atomic>
 #include <memory>
-#include <mutex>
 #include <string>
 
 #include "multimodal_nvs/ros/renderer_conversions.hpp"
 #include "periodic_diagnostics.hpp"
+#include "windowed_counters.hpp"
 
 namespace multimodal_nvs {
 
@@ -34,14 +35,13 @@ class ConditioningRendererDiagnostics {
     unsigned long sets = 0, frames = 0, keyframes = 0, bursts = 0, burst_frames = 0;
     std::array<unsigned long, ros_conversions::kRendererFaultCount> faults{};
     double render_sum_ms = 0.0, render_max_ms = 0.0, frame_sum_ms = 0.0, burst_sum_ms = 0.0;
+    // The latest keyframe's, not a sum: the totals' copy is reported.
+    std::size_t keyframe_points = 0;
+    double keyframe_cloud_ms = 0.0;
   };
 
-  std::mutex mutex_;
-  Counts window_, total_;
-  std::size_t keyframe_points_ = 0;
-  double keyframe_cloud_ms_ = 0.0;
-  ros::WallTime window_start_;
-  bool subscribed_ = false;
+  WindowedCounters<Counts> counters_;
+  std::atomic<bool> subscribed_{false};
   PeriodicDiagnostics publisher_;
 };
 

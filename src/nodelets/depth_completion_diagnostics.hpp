@@ -3,12 +3,13 @@
 // rates over the last report period, latency, and every dropped or rejected message by reason.
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <array>
+#include <atomic>
 #include <memory>
-#include <mutex>
 #include <string>
 
 #include "multimodal_nvs/ros/conversions.hpp"
 #include "periodic_diagnostics.hpp"
+#include "windowed_counters.hpp"
 
 namespace multimodal_nvs {
 
@@ -31,7 +32,6 @@ class DepthCompletionDiagnostics {
  private:
   void report(diagnostic_updater::DiagnosticStatusWrapper& status);
 
-  /// Event counts since the last report (rates) and since start (totals).
   struct Counts {
     std::array<unsigned long, 4> inputs{};
     unsigned long published = 0;
@@ -41,10 +41,8 @@ class DepthCompletionDiagnostics {
     std::size_t max_subsample_step = 0;
   };
 
-  std::mutex mutex_;
-  Counts window_, total_;
-  ros::WallTime window_start_;
-  bool subscribed_ = false;
+  WindowedCounters<Counts> counters_;
+  std::atomic<bool> subscribed_{false};
   PeriodicDiagnostics publisher_;
 };
 

@@ -2,6 +2,7 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
 
+#include <array>
 #include <memory>
 #include <string>
 
@@ -27,5 +28,21 @@ class PeriodicDiagnostics {
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::WallTimer timer_;
 };
+
+/// Adds a "rejected <reason>" row per input fault, counted since start, and "rejected total";
+/// returns how many inputs were rejected in the window. Fault 0 is "ok", not a rejection.
+template <class Fault, std::size_t kFaultCount>
+unsigned long addRejectedRows(diagnostic_updater::DiagnosticStatusWrapper& status,
+                              const std::array<unsigned long, kFaultCount>& window_faults,
+                              const std::array<unsigned long, kFaultCount>& total_faults) {
+  unsigned long rejected_total = 0, rejected_window = 0;
+  for (std::size_t f = 1; f < kFaultCount; ++f) {
+    rejected_total += total_faults[f];
+    rejected_window += window_faults[f];
+    status.add(std::string("rejected ") + toString(static_cast<Fault>(f)), total_faults[f]);
+  }
+  status.add("rejected total", rejected_total);
+  return rejected_window;
+}
 
 }  // namespace multimodal_nvs
