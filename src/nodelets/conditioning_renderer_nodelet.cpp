@@ -35,6 +35,7 @@
 #include "multimodal_nvs/core/splatting.hpp"
 #include "multimodal_nvs/core/trajectory.hpp"
 #include "multimodal_nvs/ros/renderer_conversions.hpp"
+#include "nodelet_state.hpp"
 
 namespace multimodal_nvs {
 
@@ -98,8 +99,6 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   bool onRender(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool accept(const rc::RendererStatus& status);
   void reconfigure(Config& config, uint32_t level);
-  Settings currentSettings();
-  PointSplatter& splatter(int threads);
 
   // Static parameters (read once in onInit).
   int queue_size_ = 5;
@@ -125,8 +124,7 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
 
   // Written by the reconfigure callback, copied once per frame by the frame callback.
-  std::mutex settings_mutex_;
-  Settings settings_;
+  GuardedSettings<Settings> settings_;
   std::unique_ptr<dynamic_reconfigure::Server<Config>> reconfigure_server_;
   boost::recursive_mutex reconfigure_mutex_;
 
@@ -134,10 +132,9 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   std::mutex state_mutex_;
   std::optional<Keyframe> keyframe_;
   std::atomic<bool> keyframe_requested_{false};
-  std::unique_ptr<PointSplatter> splatter_;
-  int splatter_threads_ = -1;
+  ThreadCountCached<PointSplatter> splatter_;
   std::vector<RenderedFrame> frames_;  // reused between calls
-  std::array<ros::WallTime, rc::kRendererFaultCount> last_logged_{};
+  PerFaultLogThrottle<rc::kRendererFaultCount> log_throttle_;
   ConditioningRendererDiagnostics diagnostics_;
 };
 
@@ -154,7 +151,7 @@ void ConditioningRendererNodelet::onInit() {
 
   // The .cfg defaults first; the server then applies the parameter server (YAML) through the same
   // mapping and subscribes the inputs if the settings alone want them (an exported preset).
-  settings_ = rendererSettingsFromConfig(Config::__getDefault__());
+  settings_.set(rendererSettingsFromConfig(Config::__getDefault__()));
   it_ = std::make_unique<image_transport::ImageTransport>(nh);
   sync_ = std::make_unique<Sync>(image_sub_, depth_sub_, mask_sub_, info_sub_, queue_size_);
   sync_->registerCallback(boost::bind(&ConditioningRendererNodelet::onFrame, this,
@@ -186,7 +183,7 @@ void ConditioningRendererNodelet::advertiseOutputs() {
 
 /// Outputs with subscribers, or a preset burst that is exported to disk.
 bool ConditioningRendererNodelet::inputsWanted() {
-  const Settings settings = currentSettings();
+  const Settings settings = settings_.get();
   if (settings.source == TrajectorySource::kPreset && !settings.export_dir.empty()) return true;
   return image_pub_.getNumSubscribers() > 0 || mask_pub_.getNumSubscribers() > 0 ||
          depth_pub_.getNumSubscribers() > 0 || preview_pub_.getNumSubscribers() > 0;
@@ -222,7 +219,7 @@ void ConditioningRendererNodelet::onFrame(const sensor_msgs::ImageConstPtr& imag
                                           const sensor_msgs::CameraInfoConstPtr& info) {
   const auto start = std::chrono::steady_clock::now();
   diagnostics_.countSet();
-  const Settings settings = currentSettings();
+  const Settings settings = settings_.get();
   std::lock_guard<std::mutex> lock(state_mutex_);
   const bool keyframe = wantsKeyframe(settings, image->header.stamp);
   const bool live = settings.source == TrajectorySource::kTf;
@@ -330,7 +327,7 @@ void ConditioningRendererNodelet::renderLive(const rc::RendererInput& target,
                                         size.height, size.width)});
   const auto render_start = std::chrono::steady_clock::now();
   try {
-    splatter(settings.threads).render(*cloud, view, 0, 1, settings.splat, frames_);
+    splatter_.forThreads(settings.threads).render(*cloud, view, 0, 1, settings.splat, frames_);
   } catch (const InputError& e) {  // inputs and parameters were validated: not expected
     NODELET_ERROR_THROTTLE(2.0, "rendering failed: %s", e.what());
     return;
@@ -378,7 +375,7 @@ bool ConditioningRendererNodelet::renderBurst(const Settings& settings, std::str
       writer = std::make_unique<Gen3cExportWriter>(partial, n, size);
       writeGen3cCompanions(partial, key.image_bgr, n, size);
     }
-    PointSplatter& renderer = splatter(settings.threads);
+    PointSplatter& renderer = splatter_.forThreads(settings.threads);
     // Chunks keep memory bounded (a gen3c frame holds ~20 MB at 704x1280) and use every core.
     const int chunk = 2 * renderer.threads();
     std_msgs::Header header = key.header;
@@ -455,7 +452,7 @@ bool ConditioningRendererNodelet::onSetKeyframe(std_srvs::Trigger::Request&,
 
 bool ConditioningRendererNodelet::onRender(std_srvs::Trigger::Request&,
                                            std_srvs::Trigger::Response& res) {
-  const Settings settings = currentSettings();
+  const Settings settings = settings_.get();
   std::lock_guard<std::mutex> lock(state_mutex_);
   res.success = renderBurst(settings, res.message);
   if (!res.success) NODELET_ERROR("~render: %s", res.message.c_str());
@@ -467,39 +464,18 @@ bool ConditioningRendererNodelet::onRender(std_srvs::Trigger::Request&,
 bool ConditioningRendererNodelet::accept(const rc::RendererStatus& status) {
   if (status.ok()) return true;
   diagnostics_.countFault(status.fault);
-  const ros::WallTime now = ros::WallTime::now();
-  ros::WallTime& last = last_logged_[static_cast<std::size_t>(status.fault)];
-  if (last.isZero() || (now - last).toSec() >= 2.0) {
-    last = now;
+  if (log_throttle_.due(status.fault)) {
     NODELET_ERROR("dropping input set: %s [%s]", status.reason.c_str(), rc::toString(status.fault));
   }
   return false;
 }
 
 void ConditioningRendererNodelet::reconfigure(Config& config, uint32_t /*level*/) {
-  {
-    std::lock_guard<std::mutex> lock(settings_mutex_);
-    try {
-      settings_ = rendererSettingsFromConfig(config);
-    } catch (const InputError& e) {
-      NODELET_ERROR("rejected parameter update (%s); keeping the previous values", e.what());
-      writeRendererSettingsToConfig(settings_, config);  // the server publishes what is in effect
-    }
+  if (const auto error = settings_.reconfigure(config, rendererSettingsFromConfig,
+                                               writeRendererSettingsToConfig)) {
+    NODELET_ERROR("rejected parameter update (%s); keeping the previous values", error->c_str());
   }
   connectCb();  // trajectory_source and export_dir decide whether the inputs are needed
-}
-
-ConditioningRendererSettings ConditioningRendererNodelet::currentSettings() {
-  std::lock_guard<std::mutex> lock(settings_mutex_);
-  return settings_;
-}
-
-PointSplatter& ConditioningRendererNodelet::splatter(int threads) {
-  if (!splatter_ || threads != splatter_threads_) {
-    splatter_ = std::make_unique<PointSplatter>(threads);
-    splatter_threads_ = threads;
-  }
-  return *splatter_;
 }
 
 }  // namespace multimodal_nvs

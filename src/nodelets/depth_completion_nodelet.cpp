@@ -31,6 +31,7 @@
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
 #include "multimodal_nvs/ros/frame_synchronizer.hpp"
 #include "multimodal_nvs/ros/input_timeline.hpp"
+#include "nodelet_state.hpp"
 
 namespace multimodal_nvs {
 
@@ -56,6 +57,8 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   void startOver();
   bool acceptStamp(const ros::Time& stamp);
   std::size_t pointCap(const DepthCompletionSettings& settings) const;
+  template <class PointsEvent, class ImageEvent, class InfoEvent>
+  ros::Time countSet(const PointsEvent& points, const ImageEvent& image, const InfoEvent& info);
   void onRawFrame(const RawSync::PointsEvent& points, const RawSync::ImageEvent& image,
                   const RawSync::InfoEvent& info);
   void onCompressedFrame(const CompressedSync::PointsEvent& points,
@@ -73,8 +76,6 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   bool accept(const rc::ConversionStatus& status, const char* topic);
   void releaseOversizedBuffers();
   void reconfigure(Config& config, uint32_t level);
-  DepthCompletionSettings currentSettings();
-  DepthCompleter& completer(int threads);
 
   // Static parameters (read once in onInit).
   SyncSettings sync_settings_;
@@ -108,14 +109,12 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
 
   // Written by the reconfigure callback, copied once per frame by the frame callback.
-  std::mutex settings_mutex_;
-  DepthCompletionSettings settings_;
+  GuardedSettings<DepthCompletionSettings> settings_;
   std::unique_ptr<dynamic_reconfigure::Server<Config>> reconfigure_server_;
   boost::recursive_mutex reconfigure_mutex_;
 
   // Frame-callback state (one frame at a time: the nodelet's callback queue is single-threaded).
-  std::unique_ptr<DepthCompleter> completer_;
-  int completer_threads_ = -1;
+  ThreadCountCached<DepthCompleter> completer_;
   std::vector<Eigen::Vector3d> points_camera_;
   // Reused every frame: fresh full-resolution buffers cost page faults on every scan (21 MB at
   // 1936x1216); the published messages are separate copies.
@@ -124,7 +123,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   // Time bookkeeping (input and frame callbacks, one at a time as above).
   ClockWatch clock_watch_;
   StampOrder stamp_order_;
-  std::array<ros::WallTime, rc::kInputFaultCount> last_logged_{};  // per-fault log throttle
+  PerFaultLogThrottle<rc::kInputFaultCount> log_throttle_;
 };
 
 void DepthCompletionNodelet::onInit() {
@@ -142,7 +141,7 @@ void DepthCompletionNodelet::onInit() {
   diagnostics_.start(nh, pnh, getName());
 
   // The .cfg defaults first, then whatever the parameter server (YAML) holds, through one mapping.
-  settings_ = settingsFromConfig(Config::__getDefault__());
+  settings_.set(settingsFromConfig(Config::__getDefault__()));
   reconfigure_server_ =
       std::make_unique<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, pnh);
   reconfigure_server_->setCallback(boost::bind(&DepthCompletionNodelet::reconfigure, this,
@@ -295,12 +294,18 @@ std::size_t DepthCompletionNodelet::pointCap(const DepthCompletionSettings& sett
   return exact_gp ? 5000 : 200000;
 }
 
+/// Counts a synchronized set; returns when its last message arrived (the latency's start).
+template <class PointsEvent, class ImageEvent, class InfoEvent>
+ros::Time DepthCompletionNodelet::countSet(const PointsEvent& points, const ImageEvent& image,
+                                           const InfoEvent& info) {
+  diagnostics_.countInput(DepthCompletionDiagnostics::Input::kSet);
+  return std::max({points.getReceiptTime(), image.getReceiptTime(), info.getReceiptTime()});
+}
+
 void DepthCompletionNodelet::onRawFrame(const RawSync::PointsEvent& points,
                                         const RawSync::ImageEvent& image,
                                         const RawSync::InfoEvent& info) {
-  diagnostics_.countInput(DepthCompletionDiagnostics::Input::kSet);
-  const ros::Time receipt =
-      std::max({points.getReceiptTime(), image.getReceiptTime(), info.getReceiptTime()});
+  const ros::Time receipt = countSet(points, image, info);
   const sensor_msgs::Image& msg = *image.getConstMessage();
   if (!accept(rc::validateImage(msg), "image")) return;
   // rgb8 is wrapped without a copy; `msg` outlives the frame.
@@ -312,9 +317,7 @@ void DepthCompletionNodelet::onRawFrame(const RawSync::PointsEvent& points,
 void DepthCompletionNodelet::onCompressedFrame(const CompressedSync::PointsEvent& points,
                                                const CompressedSync::ImageEvent& image,
                                                const CompressedSync::InfoEvent& info) {
-  diagnostics_.countInput(DepthCompletionDiagnostics::Input::kSet);
-  const ros::Time receipt =
-      std::max({points.getReceiptTime(), image.getReceiptTime(), info.getReceiptTime()});
+  const ros::Time receipt = countSet(points, image, info);
   // Decoding is the only way to learn the image size, so it happens for every synced set.
   cv::Mat rgb;
   if (!accept(rc::rgbFromCompressed(*image.getConstMessage(), rgb), "image/compressed")) return;
@@ -331,7 +334,7 @@ void DepthCompletionNodelet::processFrame(const sensor_msgs::PointCloud2& cloud,
                                           const ImageSize& image_size, const ColourSource& colour,
                                           const sensor_msgs::CameraInfo& info,
                                           const ros::Time& receipt) {
-  const DepthCompletionSettings settings = currentSettings();
+  const DepthCompletionSettings settings = settings_.get();
   if (!acceptStamp(image_header.stamp)) return;
   PinholeIntrinsics intrinsics;
   if (!accept(rc::intrinsicsFromCameraInfo(info, image_size, intrinsics), "camera_info")) return;
@@ -354,7 +357,7 @@ void DepthCompletionNodelet::processFrame(const sensor_msgs::PointCloud2& cloud,
                           std::size_t(cloud.width) * cloud.height, step, cap);
   }
   try {
-    completer(settings.params.threads)
+    completer_.forThreads(settings.params.threads)
         .complete(points_camera_, intrinsics, StrideGrid{image_size, settings.stride},
                   settings.params, depth_);
   } catch (const InputError& e) {  // parameters and intrinsics were validated: not expected
@@ -427,10 +430,7 @@ bool DepthCompletionNodelet::lookupSensorToCamera(const std_msgs::Header& cloud_
 bool DepthCompletionNodelet::accept(const rc::ConversionStatus& status, const char* topic) {
   if (status.ok()) return true;
   diagnostics_.countFault(status.fault);
-  const ros::WallTime now = ros::WallTime::now();
-  ros::WallTime& last = last_logged_[static_cast<std::size_t>(status.fault)];
-  if (last.isZero() || (now - last).toSec() >= 2.0) {
-    last = now;
+  if (log_throttle_.due(status.fault)) {
     NODELET_ERROR("dropping input set: %s: %s [%s]", topic, status.reason.c_str(),
                   rc::toString(status.fault));
   }
@@ -451,26 +451,9 @@ void DepthCompletionNodelet::releaseOversizedBuffers() {
 }
 
 void DepthCompletionNodelet::reconfigure(Config& config, uint32_t /*level*/) {
-  std::lock_guard<std::mutex> lock(settings_mutex_);
-  try {
-    settings_ = settingsFromConfig(config);
-  } catch (const InputError& e) {
-    NODELET_ERROR("rejected parameter update (%s); keeping the previous values", e.what());
-    writeSettingsToConfig(settings_, config);  // the server then publishes what is in effect
+  if (const auto error = settings_.reconfigure(config, settingsFromConfig, writeSettingsToConfig)) {
+    NODELET_ERROR("rejected parameter update (%s); keeping the previous values", error->c_str());
   }
-}
-
-DepthCompletionSettings DepthCompletionNodelet::currentSettings() {
-  std::lock_guard<std::mutex> lock(settings_mutex_);
-  return settings_;
-}
-
-DepthCompleter& DepthCompletionNodelet::completer(int threads) {
-  if (!completer_ || threads != completer_threads_) {
-    completer_ = std::make_unique<DepthCompleter>(threads);
-    completer_threads_ = threads;
-  }
-  return *completer_;
 }
 
 }  // namespace multimodal_nvs
