@@ -11,12 +11,15 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "message_helpers.hpp"
 #include "multimodal_nvs/core/errors.hpp"
 
 namespace multimodal_nvs {
 namespace ros_conversions {
 
 namespace enc = sensor_msgs::image_encodings;
+using detail::concat;
+using detail::hostIsBigEndian;
 
 const char* toString(InputFault fault) {
   switch (fault) {
@@ -65,20 +68,6 @@ const char* toString(InputFault fault) {
 }
 
 namespace {
-
-bool hostIsBigEndian() {
-  const std::uint16_t probe = 1;
-  std::uint8_t first_byte;
-  std::memcpy(&first_byte, &probe, 1);
-  return first_byte == 0;
-}
-
-template <typename... Parts>
-std::string concat(const Parts&... parts) {
-  std::ostringstream out;
-  (out << ... << parts);
-  return out.str();
-}
 
 /// Where x, y and z live inside one point record.
 struct XyzLayout {
@@ -372,15 +361,7 @@ namespace {
 
 sensor_msgs::ImagePtr gridImage(const StrideGrid& grid, const std::string& encoding,
                                 int bytes_per_pixel, const std_msgs::Header& header) {
-  auto image = boost::make_shared<sensor_msgs::Image>();
-  image->header = header;
-  image->height = grid.rows();
-  image->width = grid.cols();
-  image->encoding = encoding;
-  image->is_bigendian = hostIsBigEndian();
-  image->step = image->width * bytes_per_pixel;
-  image->data.resize(std::size_t(image->step) * image->height);
-  return image;
+  return detail::emptyImage(grid.rows(), grid.cols(), encoding, bytes_per_pixel, header);
 }
 
 }  // namespace

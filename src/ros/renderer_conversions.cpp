@@ -9,20 +9,12 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "message_helpers.hpp"
 #include "multimodal_nvs/core/errors.hpp"
 
 namespace multimodal_nvs {
 
-namespace {
-
-template <typename... Parts>
-std::string concat(const Parts&... parts) {
-  std::ostringstream out;
-  (out << ... << parts);
-  return out.str();
-}
-
-}  // namespace
+using ros_conversions::detail::concat;
 
 // ---- Parameters
 
@@ -168,14 +160,10 @@ RendererStatus fromConversion(const ConversionStatus& status, const std::string&
   return RendererStatus::failure(fault, topic + ": " + status.reason);
 }
 
-namespace {
+using detail::emptyImage;
+using detail::hostIsBigEndian;
 
-bool hostIsBigEndian() {
-  const std::uint16_t probe = 1;
-  std::uint8_t first_byte;
-  std::memcpy(&first_byte, &probe, 1);
-  return first_byte == 0;
-}
+namespace {
 
 /// Size, step and data length of a single-channel image with `bytes` per pixel.
 bool layoutOk(const sensor_msgs::Image& image, std::size_t bytes, std::string& why) {
@@ -336,23 +324,6 @@ RendererStatus rendererInputFromMessages(const sensor_msgs::Image& image,
 }
 
 // ---- Outputs
-
-namespace {
-
-sensor_msgs::ImagePtr emptyImage(int rows, int cols, const std::string& encoding,
-                                 std::size_t pixel_bytes, const std_msgs::Header& header) {
-  auto image = boost::make_shared<sensor_msgs::Image>();
-  image->header = header;
-  image->height = rows;
-  image->width = cols;
-  image->encoding = encoding;
-  image->is_bigendian = hostIsBigEndian();
-  image->step = static_cast<std::uint32_t>(cols * pixel_bytes);
-  image->data.resize(std::size_t(image->step) * rows);
-  return image;
-}
-
-}  // namespace
 
 sensor_msgs::ImagePtr rgbImageFromBgr(const cv::Mat& bgr, const std_msgs::Header& header) {
   auto image = emptyImage(bgr.rows, bgr.cols, enc::RGB8, 3, header);

@@ -1,0 +1,48 @@
+#pragma once
+// Helpers private to the conversion sources (conversions.cpp, renderer_conversions.cpp): error
+// texts and allocated output images.
+#include <sensor_msgs/Image.h>
+#include <boost/make_shared.hpp>
+
+#include <cstdint>
+#include <cstring>
+#include <sstream>
+#include <string>
+
+namespace multimodal_nvs {
+namespace ros_conversions {
+namespace detail {
+
+/// The parts streamed one after the other: the reasons of rejected inputs.
+template <typename... Parts>
+std::string concat(const Parts&... parts) {
+  std::ostringstream out;
+  (out << ... << parts);
+  return out.str();
+}
+
+inline bool hostIsBigEndian() {
+  const std::uint16_t probe = 1;
+  std::uint8_t first_byte;
+  std::memcpy(&first_byte, &probe, 1);
+  return first_byte == 0;
+}
+
+/// A `rows` x `cols` image of `encoding`, unpadded, in the host's byte order, its data allocated
+/// (zeroed) for the caller to fill.
+inline sensor_msgs::ImagePtr emptyImage(int rows, int cols, const std::string& encoding,
+                                        std::size_t pixel_bytes, const std_msgs::Header& header) {
+  auto image = boost::make_shared<sensor_msgs::Image>();
+  image->header = header;
+  image->height = rows;
+  image->width = cols;
+  image->encoding = encoding;
+  image->is_bigendian = hostIsBigEndian();
+  image->step = static_cast<std::uint32_t>(cols * pixel_bytes);
+  image->data.resize(std::size_t(image->step) * rows);
+  return image;
+}
+
+}  // namespace detail
+}  // namespace ros_conversions
+}  // namespace multimodal_nvs
