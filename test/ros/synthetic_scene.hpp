@@ -3,6 +3,8 @@
 // scene publisher: a fronto-parallel wall at 12 m, a box face at 6 m in front of it, and no
 // returns above the horizon band (the "sky"), seen by a 320x240 camera.
 #include <geometry_msgs/TransformStamped.h>
+#include <ros/node_handle.h>
+#include <ros/publisher.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -155,5 +157,40 @@ inline sensor_msgs::PointCloud2 cloud(const ros::Time& stamp) {
   }
   return msg;
 }
+
+/// One synchronized input set of the depth nodelet.
+struct InputSet {
+  sensor_msgs::PointCloud2 cloud;
+  sensor_msgs::Image image;
+  sensor_msgs::CameraInfo info;
+};
+
+/// The scene's cloud, image and camera_info, all stamped `stamp`.
+inline InputSet inputSet(const ros::Time& stamp) {
+  return {cloud(stamp), image(stamp), cameraInfo(stamp)};
+}
+
+/// Publishers of the depth nodelet's input topics: points, image and camera_info.
+class InputPublishers {
+ public:
+  InputPublishers(ros::NodeHandle& nh, std::uint32_t queue_size)
+      : points_(nh.advertise<sensor_msgs::PointCloud2>("points", queue_size)),
+        image_(nh.advertise<sensor_msgs::Image>("image", queue_size)),
+        info_(nh.advertise<sensor_msgs::CameraInfo>("camera_info", queue_size)) {}
+
+  void publish(const InputSet& set) const {
+    points_.publish(set.cloud);
+    publishWithoutCloud(set);
+  }
+
+  /// Image and camera_info only: a set whose cloud never comes.
+  void publishWithoutCloud(const InputSet& set) const {
+    image_.publish(set.image);
+    info_.publish(set.info);
+  }
+
+ private:
+  ros::Publisher points_, image_, info_;
+};
 
 }  // namespace synthetic_scene

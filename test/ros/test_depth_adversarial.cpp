@@ -23,6 +23,7 @@
 #include <random>
 #include <thread>
 
+#include "rostest_helpers.hpp"
 #include "synthetic_scene.hpp"
 
 namespace ss = synthetic_scene;
@@ -30,15 +31,7 @@ namespace enc = sensor_msgs::image_encodings;
 
 namespace {
 
-struct InputSet {
-  sensor_msgs::PointCloud2 cloud;
-  sensor_msgs::Image image;
-  sensor_msgs::CameraInfo info;
-};
-
-InputSet goodSet(const ros::Time& stamp) {
-  return {ss::cloud(stamp), ss::image(stamp), ss::cameraInfo(stamp)};
-}
+using ss::InputSet;
 
 /// Float32 x, y, z, intensity cloud of `points` (sensor frame), stamped `stamp`.
 sensor_msgs::PointCloud2 cloudOf(const std::vector<Eigen::Vector3d>& points, const ros::Time& stamp,
@@ -135,22 +128,12 @@ class Harness {
           ++outputs_[msg->header.stamp];
           output_sizes_[msg->header.stamp] = {msg->width, msg->height};
         });
-    diagnostics_sub_ = nh_.subscribe<diagnostic_msgs::DiagnosticArray>(
-        "/diagnostics", 20, [this](const diagnostic_msgs::DiagnosticArrayConstPtr& msg) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          for (const auto& status : msg->status) {
-            if (status.name.find("depth completion") == std::string::npos) continue;
-            for (const auto& kv : status.values)
-              diagnostics_[kv.key] = kv.value;
-          }
-        });
+    diagnostics_sub_ =
+        rostest_helpers::subscribeDiagnostics(nh_, {"depth completion"}, mutex_, diagnostics_);
     // Wait until this process runs on the published clock (ros::Time is 0 until then).
     for (int i = 0; i < 200 && ros::Time::now().isZero(); ++i)
       ros::WallDuration(0.01).sleep();
     static_tf_.sendTransform(ss::sensorToCameraMsg(simNow()));
-    points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("points", 2);
-    image_pub_ = nh_.advertise<sensor_msgs::Image>("image", 2);
-    info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("camera_info", 2);
   }
 
   ~Harness() {
@@ -176,28 +159,16 @@ class Harness {
     offset_ -= ros::Duration(seconds);
   }
 
-  void publish(const InputSet& set) {
-    points_pub_.publish(set.cloud);
-    image_pub_.publish(set.image);
-    info_pub_.publish(set.info);
-  }
+  void publish(const InputSet& set) { inputs_.publish(set); }
 
   bool waitFor(const std::function<bool()>& done, double seconds) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (done()) return true;
-      }
-      ros::WallDuration(0.02).sleep();
-    }
-    return false;
+    return rostest_helpers::waitFor(mutex_, done, seconds);
   }
 
   /// Publishes a good set now and waits for its depth image.
   bool goodSetProcessed(double seconds = 10.0) {
     const ros::Time stamp = simNow();
-    publish(goodSet(stamp));
+    publish(ss::inputSet(stamp));
     return waitFor([&] { return outputs_.count(stamp) > 0; }, seconds);
   }
 
@@ -218,7 +189,8 @@ class Harness {
   }
 
   ros::NodeHandle nh_;
-  ros::Publisher clock_pub_, points_pub_, image_pub_, info_pub_;
+  ros::Publisher clock_pub_;
+  ss::InputPublishers inputs_{nh_, 2};
   ros::Subscriber depth_sub_, diagnostics_sub_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   tf2_ros::TransformBroadcaster tf_;
@@ -318,7 +290,7 @@ TEST_F(AdversarialTest, EachAdversarialInputIsRejectedAndTheNextGoodSetProcessed
 
   for (const BadCase& bad : badCases()) {
     const ros::Time stamp = h.simNow();
-    InputSet set = goodSet(stamp);
+    InputSet set = ss::inputSet(stamp);
     bad.breakIt(set);
     h.publish(set);
     ros::WallDuration(0.25).sleep();  // > tf_timeout, so sets never overlap in the synchronizer
@@ -335,12 +307,12 @@ TEST_F(AdversarialTest, EachAdversarialInputIsRejectedAndTheNextGoodSetProcessed
 TEST_F(AdversarialTest, DuplicateAndOutOfOrderStampsAreDropped) {
   ASSERT_TRUE(h.warmUp());
   const ros::Time first = h.simNow();
-  h.publish(goodSet(first));
+  h.publish(ss::inputSet(first));
   ASSERT_TRUE(h.waitFor([&] { return h.outputs_.count(first) > 0; }, 10.0));
   ros::WallDuration(0.2).sleep();
-  h.publish(goodSet(first));  // the same stamps again
+  h.publish(ss::inputSet(first));  // the same stamps again
   ros::WallDuration(0.2).sleep();
-  h.publish(goodSet(first - ros::Duration(0.1)));  // a little older: out of order
+  h.publish(ss::inputSet(first - ros::Duration(0.1)));  // a little older: out of order
   ros::WallDuration(0.25).sleep();
   EXPECT_TRUE(h.goodSetProcessed()) << "no output after the duplicate";
   // The out-of-order set may already be dropped by the synchronizer (it pairs in stamp order).
@@ -361,7 +333,7 @@ TEST_F(AdversarialTest, TfGoingBackIsATransformErrorNotACrash) {
   const ros::Time now = h.simNow();
   h.tf_.sendTransform(moving(now));
   ros::WallDuration(0.1).sleep();
-  InputSet set = goodSet(now);
+  InputSet set = ss::inputSet(now);
   set.cloud.header.frame_id = "moving_radar";
   h.publish(set);
   ASSERT_TRUE(h.waitFor([&] { return h.outputs_.count(now) > 0; }, 10.0)) << "dynamic tf not used";
@@ -369,7 +341,7 @@ TEST_F(AdversarialTest, TfGoingBackIsATransformErrorNotACrash) {
   const ros::Time past = now - ros::Duration(30.0);
   h.tf_.sendTransform(moving(past));
   ros::WallDuration(0.1).sleep();
-  set = goodSet(past);
+  set = ss::inputSet(past);
   set.cloud.header.frame_id = "moving_radar";
   h.publish(set);
   EXPECT_TRUE(h.diagnosticReaches("rejected transform_unavailable", 1));
@@ -383,9 +355,8 @@ TEST_F(AdversarialTest, ClockResetStartsOverWithoutLosingStaticTf) {
   const double jumps_before = h.diagnostic("time jumps back");
   // An image and CameraInfo that never find their cloud wait in the synchronizer when the clock
   // goes back; they must not be paired with the restarted stream's first cloud.
-  const InputSet stale = goodSet(h.simNow());
-  h.image_pub_.publish(stale.image);
-  h.info_pub_.publish(stale.info);
+  const InputSet stale = ss::inputSet(h.simNow());
+  h.inputs_.publishWithoutCloud(stale);
   ros::WallDuration(0.1).sleep();
   h.jumpBack(100.0);  // as a bag played in a loop with --clock
   ros::WallDuration(0.2).sleep();
@@ -408,7 +379,7 @@ TEST_F(AdversarialTest, HugeValidInputsAreProcessedInBoundedMemory) {
   for (int round = 0; round < 2; ++round) {
     {  // 10 million points (160 MB): read every k-th, processed
       const ros::Time stamp = h.simNow();
-      InputSet set = goodSet(stamp);
+      InputSet set = ss::inputSet(stamp);
       set.cloud = denseCloud(10 * 1000 * 1000, stamp);
       h.publish(set);
       EXPECT_TRUE(h.waitFor([&] { return h.outputs_.count(stamp) > 0; }, 60.0))
@@ -416,7 +387,7 @@ TEST_F(AdversarialTest, HugeValidInputsAreProcessedInBoundedMemory) {
     }
     {  // 8000 x 8000 image with its CameraInfo: a 4000 x 4000 depth map
       const ros::Time stamp = h.simNow();
-      InputSet set = goodSet(stamp);
+      InputSet set = ss::inputSet(stamp);
       resizeView(set, 8000, 8000);
       h.publish(set);
       EXPECT_TRUE(h.waitFor([&] { return h.outputs_.count(stamp) > 0; }, 90.0))
@@ -426,7 +397,7 @@ TEST_F(AdversarialTest, HugeValidInputsAreProcessedInBoundedMemory) {
     }
     {  // 1 x 1 image
       const ros::Time stamp = h.simNow();
-      InputSet set = goodSet(stamp);
+      InputSet set = ss::inputSet(stamp);
       resizeView(set, 1, 1);
       h.publish(set);
       EXPECT_TRUE(h.waitFor([&] { return h.outputs_.count(stamp) > 0; }, 10.0))
@@ -445,14 +416,10 @@ TEST_F(AdversarialTest, HugeValidInputsAreProcessedInBoundedMemory) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_depth_adversarial");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  g_harness = std::make_unique<Harness>();
-  const int result = RUN_ALL_TESTS();
-  g_harness.reset();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return rostest_helpers::runWithSpinner(argc, argv, "test_depth_adversarial", 2, [] {
+    g_harness = std::make_unique<Harness>();
+    const int result = RUN_ALL_TESTS();
+    g_harness.reset();
+    return result;
+  });
 }

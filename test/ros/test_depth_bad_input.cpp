@@ -13,21 +13,14 @@
 #include <mutex>
 #include <set>
 
+#include "rostest_helpers.hpp"
 #include "synthetic_scene.hpp"
 
 namespace ss = synthetic_scene;
 
 namespace {
 
-struct InputSet {
-  sensor_msgs::PointCloud2 cloud;
-  sensor_msgs::Image image;
-  sensor_msgs::CameraInfo info;
-};
-
-InputSet goodSet(const ros::Time& stamp) {
-  return {ss::cloud(stamp), ss::image(stamp), ss::cameraInfo(stamp)};
-}
+using ss::InputSet;
 
 /// One malformed input: how to break a good set, and the diagnostics reason it must be counted as.
 struct BadCase {
@@ -81,42 +74,20 @@ class BadInputTest : public ::testing::Test {
                                                      std::lock_guard<std::mutex> lock(mutex_);
                                                      output_stamps_.insert(msg->header.stamp);
                                                    });
-    diagnostics_sub_ = nh_.subscribe<diagnostic_msgs::DiagnosticArray>(
-        "/diagnostics", 20, [this](const diagnostic_msgs::DiagnosticArrayConstPtr& msg) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          for (const auto& status : msg->status) {
-            if (status.name.find("depth completion") == std::string::npos) continue;
-            for (const auto& kv : status.values)
-              rejected_[kv.key] = kv.value;
-          }
-        });
+    diagnostics_sub_ =
+        rostest_helpers::subscribeDiagnostics(nh_, {"depth completion"}, mutex_, rejected_);
     static_tf_.sendTransform(ss::sensorToCameraMsg(ros::Time(0)));
-    points_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("points", 5);
-    image_pub_ = nh_.advertise<sensor_msgs::Image>("image", 5);
-    info_pub_ = nh_.advertise<sensor_msgs::CameraInfo>("camera_info", 5);
   }
 
-  void publish(const InputSet& set) {
-    points_pub_.publish(set.cloud);
-    image_pub_.publish(set.image);
-    info_pub_.publish(set.info);
-  }
+  void publish(const InputSet& set) { inputs_.publish(set); }
 
   bool waitFor(const std::function<bool()>& done, double seconds) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (done()) return true;
-      }
-      ros::WallDuration(0.02).sleep();
-    }
-    return false;
+    return rostest_helpers::waitFor(mutex_, done, seconds);
   }
 
   ros::NodeHandle nh_;
   ros::Subscriber depth_sub_, diagnostics_sub_;
-  ros::Publisher points_pub_, image_pub_, info_pub_;
+  ss::InputPublishers inputs_{nh_, 5};
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::mutex mutex_;
   std::set<ros::Time> output_stamps_;
@@ -127,7 +98,7 @@ TEST_F(BadInputTest, RejectsEachBadInputAndRecovers) {
   // Warm up: repeat a good set until the (lazy) node is subscribed and answering.
   bool answered = false;
   for (int attempt = 0; attempt < 40 && !answered; ++attempt) {
-    publish(goodSet(ros::Time::now()));
+    publish(ss::inputSet(ros::Time::now()));
     answered = waitFor([&] { return !output_stamps_.empty(); }, 1.0);
   }
   ASSERT_TRUE(answered) << "the node never answered a good set";
@@ -137,14 +108,14 @@ TEST_F(BadInputTest, RejectsEachBadInputAndRecovers) {
   std::vector<ros::Time> bad_stamps;
   for (const BadCase& bad : cases) {
     const ros::Time stamp = ros::Time::now();
-    InputSet set = goodSet(stamp);
+    InputSet set = ss::inputSet(stamp);
     bad.breakIt(set);
     publish(set);
     bad_stamps.push_back(stamp);
     ros::WallDuration(0.25).sleep();  // > tf_timeout, so sets never overlap in the synchronizer
   }
   const ros::Time good = ros::Time::now();
-  publish(goodSet(good));
+  publish(ss::inputSet(good));
   EXPECT_TRUE(waitFor([&] { return output_stamps_.count(good) > 0; }, 10.0))
       << "no output for the good set after the bad ones";
 
@@ -164,12 +135,5 @@ TEST_F(BadInputTest, RejectsEachBadInputAndRecovers) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_depth_bad_input");
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return rostest_helpers::runWithSpinner(argc, argv, "test_depth_bad_input", 1);
 }

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <mutex>
 
+#include "rostest_helpers.hpp"
 #include "synthetic_scene.hpp"
 
 namespace ss = synthetic_scene;
@@ -66,9 +67,7 @@ class DepthSceneTest : public ::testing::Test {
                                          keepLatest(nh, "depth/stats", out, &Outputs::stats)};
     static tf2_ros::StaticTransformBroadcaster static_tf;
     static_tf.sendTransform(ss::sensorToCameraMsg(ros::Time(0)));
-    ros::Publisher points_pub = nh.advertise<sensor_msgs::PointCloud2>("points", 1);
-    ros::Publisher image_pub = nh.advertise<sensor_msgs::Image>("image", 1);
-    ros::Publisher info_pub = nh.advertise<sensor_msgs::CameraInfo>("camera_info", 1);
+    const ss::InputPublishers inputs(nh, 1);
     // For the compressed_input variant: the same image as PNG (lossless, so colours stay exact).
     ros::Publisher compressed_pub =
         nh.advertise<sensor_msgs::CompressedImage>("image/compressed", 1);
@@ -83,9 +82,7 @@ class DepthSceneTest : public ::testing::Test {
     const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(40.0);
     while (ros::ok() && ros::WallTime::now() < deadline) {
       stamp_ = ros::Time::now();
-      points_pub.publish(ss::cloud(stamp_));
-      image_pub.publish(ss::image(stamp_));
-      info_pub.publish(ss::cameraInfo(stamp_));
+      inputs.publish(ss::inputSet(stamp_));
       png.header = ss::header(stamp_, ss::kCameraFrame);
       compressed_pub.publish(png);
       for (int i = 0; i < 20 && !out.completeFor(stamp_); ++i)
@@ -200,12 +197,5 @@ TEST_F(DepthSceneTest, StatsDescribeTheInput) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_depth_scene");
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return rostest_helpers::runWithSpinner(argc, argv, "test_depth_scene", 1);
 }

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "multimodal_nvs/core/io/npy.hpp"
+#include "rostest_helpers.hpp"
 
 namespace enc = sensor_msgs::image_encodings;
 namespace io = multimodal_nvs::io;
@@ -134,19 +135,9 @@ class RendererTest : public ::testing::Test {
           std::lock_guard<std::mutex> lock(mutex_);
           out_.info[msg->header.stamp] = msg;
         }));
-    subs_.push_back(nh_.subscribe<diagnostic_msgs::DiagnosticArray>(
-        "/diagnostics", 20, [this](const diagnostic_msgs::DiagnosticArrayConstPtr& msg) {
-          std::lock_guard<std::mutex> lock(mutex_);
-          for (const auto& status : msg->status) {
-            // diagnostic_updater names the status "<node name without the leading />: <task>".
-            if (status.name.find(ns_.substr(1) + "/") == std::string::npos ||
-                status.name.find("conditioning renderer") == std::string::npos) {
-              continue;
-            }
-            for (const auto& kv : status.values)
-              diagnostics_[kv.key] = kv.value;
-          }
-        }));
+    // diagnostic_updater names the status "<node name without the leading />: <task>".
+    subs_.push_back(rostest_helpers::subscribeDiagnostics(
+        nh_, {ns.substr(1) + "/", "conditioning renderer"}, mutex_, diagnostics_));
     image_pub_ = nh_.advertise<sensor_msgs::Image>(ns + "/image", 5);
     depth_pub_ = nh_.advertise<sensor_msgs::Image>(ns + "/depth/image", 5);
     mask_pub_ = nh_.advertise<sensor_msgs::Image>(ns + "/depth/mask", 5);
@@ -172,15 +163,7 @@ class RendererTest : public ::testing::Test {
   }
 
   bool waitFor(const std::function<bool()>& done, double seconds) {
-    const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < deadline) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (done()) return true;
-      }
-      ros::WallDuration(0.02).sleep();
-    }
-    return false;
+    return rostest_helpers::waitFor(mutex_, done, seconds);
   }
 
   /// Repeats good sets (pose `x`) until the lazily subscribing node answers one.
@@ -536,12 +519,5 @@ TEST_F(RendererTest, PresetModeRendersBurstsAndExportsGen3cFolders) {
 }
 
 int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_renderer");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  const int result = RUN_ALL_TESTS();
-  spinner.stop();
-  ros::shutdown();
-  return result;
+  return rostest_helpers::runWithSpinner(argc, argv, "test_renderer", 2);
 }
