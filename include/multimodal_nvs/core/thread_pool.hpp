@@ -12,6 +12,8 @@ namespace multimodal_nvs {
 /// A small persistent pool for data-parallel loops. Work is handed out in chunks through an atomic
 /// counter; every index writes only its own outputs, so results never depend on the thread count
 /// or on scheduling. The calling thread takes part, so a pool of size 1 runs everything inline.
+/// One loop at a time: parallelFor must not be called from two threads at once, nor from inside a
+/// body (each DepthCompleter / PointSplatter owns its pool, and each is used by one thread).
 class ThreadPool {
  public:
   /// `threads` <= 0 means std::thread::hardware_concurrency().
