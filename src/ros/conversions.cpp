@@ -364,16 +364,28 @@ sensor_msgs::ImagePtr gridImage(const StrideGrid& grid, const std::string& encod
   return detail::emptyImage(grid.rows(), grid.cols(), encoding, bytes_per_pixel, header);
 }
 
+// Restrict-pointer loops: written through the message's byte vector, the stores may alias the
+// DepthMap's vectors, and GCC then reloads their data pointers per pixel and keeps the loop scalar.
+void maskedDepth(const float* __restrict depth, const std::uint8_t* __restrict valid,
+                 std::size_t count, std::uint8_t* __restrict out) {
+  const float not_kept = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t i = 0; i < count; ++i) {
+    const float value = valid[i] ? depth[i] : not_kept;
+    std::memcpy(out + i * sizeof(float), &value, sizeof value);
+  }
+}
+
+void maskBytes(const std::uint8_t* __restrict valid, std::size_t count,
+               std::uint8_t* __restrict out) {
+  for (std::size_t i = 0; i < count; ++i) {
+    out[i] = valid[i] ? 255 : 0;
+  }
+}
 }  // namespace
 
 sensor_msgs::ImagePtr depthImage(const DepthMap& depth, const std_msgs::Header& header) {
   auto image = gridImage(depth.grid, enc::TYPE_32FC1, sizeof(float), header);
-  const float not_kept = std::numeric_limits<float>::quiet_NaN();
-  std::uint8_t* out = image->data.data();
-  for (std::size_t i = 0; i < depth.depth.size(); ++i, out += sizeof(float)) {
-    const float value = depth.valid[i] ? depth.depth[i] : not_kept;
-    std::memcpy(out, &value, sizeof value);
-  }
+  maskedDepth(depth.depth.data(), depth.valid.data(), depth.depth.size(), image->data.data());
   return image;
 }
 
@@ -385,8 +397,7 @@ sensor_msgs::ImagePtr varianceImage(const DepthMap& depth, const std_msgs::Heade
 
 sensor_msgs::ImagePtr maskImage(const DepthMap& depth, const std_msgs::Header& header) {
   auto image = gridImage(depth.grid, enc::MONO8, 1, header);
-  for (std::size_t i = 0; i < depth.valid.size(); ++i)
-    image->data[i] = depth.valid[i] ? 255 : 0;
+  maskBytes(depth.valid.data(), depth.valid.size(), image->data.data());
   return image;
 }
 
