@@ -45,22 +45,37 @@ DepthMetrics DepthMetrics::from(const DepthErrorSums& s) {
   return m;
 }
 
+namespace {
+
+/// What pixel i contributes to the metrics; evaluateDepth and evaluateCalibration both select
+/// and clip through here, so they always describe the same pixels.
+enum class PixelRole { kNoTruth, kTruthOnly, kEvaluated };
+PixelRole evaluatedPixel(const float* prediction, const std::uint8_t* mask, const float* truth,
+                         std::size_t i, const DepthEvaluationOptions& options, double& clipped) {
+  const float g = truth[i];
+  if (!(std::isfinite(g) && g > 0.0f)) return PixelRole::kNoTruth;
+  const bool capped = options.max_depth > 0.0;
+  if (capped && g > options.max_depth) return PixelRole::kNoTruth;
+  const float p = prediction[i];
+  const bool predicted =
+      mask != nullptr ? mask[i] != 0 && std::isfinite(p) : std::isfinite(p) && p > 0.0f;
+  if (!predicted) return PixelRole::kTruthOnly;
+  clipped = std::max<double>(p, options.min_prediction);
+  if (capped) clipped = std::min(clipped, options.max_depth);
+  return PixelRole::kEvaluated;
+}
+
+}  // namespace
+
 DepthErrorSums evaluateDepth(const float* prediction, const std::uint8_t* mask, const float* truth,
                              std::size_t n, const DepthEvaluationOptions& options) {
   DepthErrorSums sums;
-  const bool capped = options.max_depth > 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const float g = truth[i];
-    if (!(std::isfinite(g) && g > 0.0f)) continue;
-    if (capped && g > options.max_depth) continue;
+    double clipped = 0.0;
+    const PixelRole role = evaluatedPixel(prediction, mask, truth, i, options, clipped);
+    if (role == PixelRole::kNoTruth) continue;
     ++sums.gt_pixels;
-    const float p = prediction[i];
-    const bool predicted =
-        mask != nullptr ? mask[i] != 0 && std::isfinite(p) : std::isfinite(p) && p > 0.0f;
-    if (!predicted) continue;
-    double clipped = std::max<double>(p, options.min_prediction);
-    if (capped) clipped = std::min(clipped, options.max_depth);
-    sums.add(clipped, g);
+    if (role == PixelRole::kEvaluated) sums.add(clipped, truth[i]);
   }
   return sums;
 }
@@ -98,18 +113,12 @@ CalibrationCounts evaluateCalibration(const float* prediction, const float* vari
   std::vector<double> z(levels.size());
   for (std::size_t l = 0; l < levels.size(); ++l)
     z[l] = centralNormalQuantile(levels[l]);
-  const bool capped = options.max_depth > 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    // The pixel selection and clipping of evaluateDepth, so both describe the same pixels.
+    double clipped = 0.0;
+    if (evaluatedPixel(prediction, mask, truth, i, options, clipped) != PixelRole::kEvaluated) {
+      continue;
+    }
     const float g = truth[i];
-    if (!(std::isfinite(g) && g > 0.0f)) continue;
-    if (capped && g > options.max_depth) continue;
-    const float p = prediction[i];
-    const bool predicted =
-        mask != nullptr ? mask[i] != 0 && std::isfinite(p) : std::isfinite(p) && p > 0.0f;
-    if (!predicted) continue;
-    double clipped = std::max<double>(p, options.min_prediction);
-    if (capped) clipped = std::min(clipped, options.max_depth);
     ++counts.count;
     const double v = variance[i];
     if (!(std::isfinite(v) && v >= 0.0)) continue;
