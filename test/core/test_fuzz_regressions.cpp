@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "input_error.hpp"
 #include "multimodal_nvs/core/errors.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
@@ -21,15 +22,7 @@ std::string tempPath(const std::string& name) {
   return ::testing::TempDir() + "mmnvs_fuzz_regression_" + name;
 }
 
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const mm::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using multimodal_nvs::test::inputErrorOf;
 
 const char* kIdentity = "[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]";
 
@@ -61,12 +54,13 @@ TEST(FuzzRegression, EmptyBinFileHasNoRecords) {
 // runs stop short of the stack): one recursion per '[' or '{' overflowed the stack.
 TEST(FuzzRegression, DeeplyNestedPoseJsonIsRejectedNotAStackOverflow) {
   const std::string arrays = "{\"x\": " + std::string(100000, '[');
-  EXPECT_NE(errorOf([&] { io::vodPoseKeys(arrays, "deep.json"); }).find("nested deeper than 64"),
-            std::string::npos);
+  EXPECT_NE(
+      inputErrorOf([&] { io::vodPoseKeys(arrays, "deep.json"); }).find("nested deeper than 64"),
+      std::string::npos);
   std::string objects;
   for (int i = 0; i < 50000; ++i)
     objects += "{\"a\": ";
-  EXPECT_NE(errorOf([&] {
+  EXPECT_NE(inputErrorOf([&] {
               io::parseVodPose(objects, "mapToCamera", "deep.json");
             }).find("nested deeper than 64"),
             std::string::npos);
@@ -74,7 +68,7 @@ TEST(FuzzRegression, DeeplyNestedPoseJsonIsRejectedNotAStackOverflow) {
   const std::string metadata = std::string("{\"mapToCamera\": ") + kIdentity +
                                ", \"meta\": " + std::string(60, '[') + std::string(60, ']') + "}";
   EXPECT_EQ(io::parseVodPose(metadata, "mapToCamera", "ok.json"), Eigen::Matrix4d::Identity());
-  EXPECT_NE(errorOf([&] { io::vodPoseKeys(arrays, "deep.json"); }).find("deep.json:1:70"),
+  EXPECT_NE(inputErrorOf([&] { io::vodPoseKeys(arrays, "deep.json"); }).find("deep.json:1:70"),
             std::string::npos);
 }
 
@@ -82,18 +76,19 @@ TEST(FuzzRegression, DeeplyNestedPoseJsonIsRejectedNotAStackOverflow) {
 // overflow, UB); values that do not fit in int were silently truncated ("4294967297" read as 1) and
 // "-1" was read as 2^64 - 1.
 TEST(FuzzRegression, PcdCountsOutOfRangeAreRejected) {
-  EXPECT_NE(errorOf([] { io::parsePcd(pcdWithCount("2147483647"), "c.pcd"); }).find("short"),
+  EXPECT_NE(inputErrorOf([] { io::parsePcd(pcdWithCount("2147483647"), "c.pcd"); }).find("short"),
             std::string::npos);
-  EXPECT_NE(errorOf([] {
+  EXPECT_NE(inputErrorOf([] {
               io::parsePcd(pcdWithCount("2147483648"), "c.pcd");
             }).find("bad PCD COUNT '2147483648'"),
             std::string::npos);
   EXPECT_NE(
-      errorOf([] { io::parsePcd(pcdWithCount("4294967297"), "c.pcd"); }).find("bad PCD COUNT"),
+      inputErrorOf([] { io::parsePcd(pcdWithCount("4294967297"), "c.pcd"); }).find("bad PCD COUNT"),
       std::string::npos);
-  EXPECT_NE(errorOf([] { io::parsePcd(pcdWithCount("1", "-1"), "c.pcd"); }).find("bad PCD WIDTH"),
-            std::string::npos);
-  EXPECT_NE(errorOf([] {
+  EXPECT_NE(
+      inputErrorOf([] { io::parsePcd(pcdWithCount("1", "-1"), "c.pcd"); }).find("bad PCD WIDTH"),
+      std::string::npos);
+  EXPECT_NE(inputErrorOf([] {
               io::parsePcd(pcdWithCount("1", "99999999999999999999"), "c.pcd");
             }).find("bad PCD WIDTH"),
             std::string::npos);
@@ -108,16 +103,17 @@ TEST(FuzzRegression, PcdWidthTimesHeightOverflowIsRejected) {
   const std::string pcd =
       "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 4294967296\nHEIGHT 4294967296\n"
       "DATA binary\n";
-  EXPECT_NE(errorOf([&] { io::parsePcd(pcd, "o.pcd"); }).find("WIDTH * HEIGHT overflows"),
+  EXPECT_NE(inputErrorOf([&] { io::parsePcd(pcd, "o.pcd"); }).find("WIDTH * HEIGHT overflows"),
             std::string::npos);
 }
 
 // fuzz_npy: a negative dimension was read as 2^64 - 1; with another dimension 0 the array passed
 // as an empty array of shape (18446744073709551615, 0).
 TEST(FuzzRegression, NpyNegativeOrOverflowingDimensionsAreRejected) {
-  EXPECT_NE(errorOf([] { io::parseNpy(npyWithShape("(-1, 0)"), "n.npy"); }).find("bad .npy shape"),
-            std::string::npos);
-  EXPECT_NE(errorOf([] {
+  EXPECT_NE(
+      inputErrorOf([] { io::parseNpy(npyWithShape("(-1, 0)"), "n.npy"); }).find("bad .npy shape"),
+      std::string::npos);
+  EXPECT_NE(inputErrorOf([] {
               io::parseNpy(npyWithShape("(0, 99999999999999999999)"), "n.npy");
             }).find("bad .npy shape"),
             std::string::npos);

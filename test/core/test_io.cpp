@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 
+#include "input_error.hpp"
 #include "multimodal_nvs/core/errors.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
@@ -24,15 +25,7 @@ void writeFile(const std::string& path, const std::string& bytes) {
   std::ofstream(path, std::ios::binary) << bytes;
 }
 
-template <typename F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const mm::InputError& e) {
-    return e.what();
-  }
-  return "";
-}
+using multimodal_nvs::test::inputErrorOf;
 
 const char* kCalib =
     "P2: 1495.5 0.0 961.3 0.0 0.0 1495.4 624.9 0.0 0.0 0.0 1.0 0.0\n"
@@ -56,14 +49,14 @@ TEST(Npy, RoundTripFloatAndUint8WithPaddedHeader) {
 
 TEST(Npy, MalformedFilesAreRejected) {
   writeFile(tempPath("bad.npy"), "not numpy at all");
-  EXPECT_NE(errorOf([] { io::readNpy(tempPath("bad.npy")); }).find("bad magic"), std::string::npos);
+  EXPECT_NE(inputErrorOf([] { io::readNpy(tempPath("bad.npy")); }).find("bad magic"), std::string::npos);
   std::vector<float> v(6, 1.0f);
   io::writeNpy(tempPath("t.npy"), v.data(), {2, 3});
   std::ifstream in(tempPath("t.npy"), std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), {});
   writeFile(tempPath("trunc.npy"), bytes.substr(0, bytes.size() - 5));
-  EXPECT_NE(errorOf([] { io::readNpy(tempPath("trunc.npy")); }).find("truncated"), std::string::npos);
-  EXPECT_NE(errorOf([] { io::readNpy(tempPath("missing.npy")); }).find("cannot open"), std::string::npos);
+  EXPECT_NE(inputErrorOf([] { io::readNpy(tempPath("trunc.npy")); }).find("truncated"), std::string::npos);
+  EXPECT_NE(inputErrorOf([] { io::readNpy(tempPath("missing.npy")); }).find("cannot open"), std::string::npos);
 }
 
 TEST(KittiCalib, ParsesIntrinsicsAndExtrinsic) {
@@ -80,14 +73,14 @@ TEST(KittiCalib, ParsesIntrinsicsAndExtrinsic) {
 
 TEST(KittiCalib, ErrorsNameTheFileAndTheProblem) {
   const auto no_tr = io::parseKittiCalib("P2: 1 0 1 0 0 1 1 0 0 0 1 0\n", "a.txt");
-  EXPECT_NE(errorOf([&] { no_tr.sensorToCamera(); }).find("a.txt: no 'Tr_velo_to_cam:'"),
+  EXPECT_NE(inputErrorOf([&] { no_tr.sensorToCamera(); }).find("a.txt: no 'Tr_velo_to_cam:'"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { io::parseKittiCalib("P2: 1 0 x 0\n", "b.txt"); }).find("unparsable"),
+  EXPECT_NE(inputErrorOf([] { io::parseKittiCalib("P2: 1 0 x 0\n", "b.txt"); }).find("unparsable"),
             std::string::npos);
   const auto zero_f = io::parseKittiCalib("P2: 0 0 1 0 0 1 1 0 0 0 1 0\n", "c.txt");
-  EXPECT_NE(errorOf([&] { zero_f.intrinsics(); }).find("focal length"), std::string::npos);
+  EXPECT_NE(inputErrorOf([&] { zero_f.intrinsics(); }).find("focal length"), std::string::npos);
   const auto short_p = io::parseKittiCalib("P2: 1 0 1\n", "d.txt");
-  EXPECT_NE(errorOf([&] { short_p.intrinsics(); }).find("expected 12"), std::string::npos);
+  EXPECT_NE(inputErrorOf([&] { short_p.intrinsics(); }).find("expected 12"), std::string::npos);
 }
 
 TEST(PointFiles, BinLayoutsAndSizeChecks) {
@@ -97,10 +90,10 @@ TEST(PointFiles, BinLayoutsAndSizeChecks) {
   const auto points = io::readPoints(tempPath("r.bin"), io::PointFormat::kVodRadar);
   ASSERT_EQ(points.size(), 2u);
   EXPECT_EQ(points[1], Eigen::Vector3f(7, 8, 9));
-  EXPECT_NE(errorOf([] { io::readPoints(tempPath("r.bin"), io::PointFormat::kXyzi); })
+  EXPECT_NE(inputErrorOf([] { io::readPoints(tempPath("r.bin"), io::PointFormat::kXyzi); })
                 .find("not a multiple"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { io::readPoints(tempPath("nope.bin"), io::PointFormat::kXyz); })
+  EXPECT_NE(inputErrorOf([] { io::readPoints(tempPath("nope.bin"), io::PointFormat::kXyz); })
                 .find("cannot open"),
             std::string::npos);
 }
@@ -122,10 +115,10 @@ TEST(PointFiles, PcdAsciiAndBinary) {
   const auto b = io::parsePcd(binary, "b.pcd");
   ASSERT_EQ(b.size(), 1u);
   EXPECT_EQ(b[0], Eigen::Vector3f(-1.5f, 2.5f, 8.0f));
-  EXPECT_NE(errorOf([&] { io::parsePcd(binary.substr(0, binary.size() - 4), "c.pcd"); })
+  EXPECT_NE(inputErrorOf([&] { io::parsePcd(binary.substr(0, binary.size() - 4), "c.pcd"); })
                 .find("truncated"),
             std::string::npos);
-  EXPECT_NE(errorOf([] { io::parsePcd("FIELDS a b\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nDATA ascii\n", "d.pcd"); })
+  EXPECT_NE(inputErrorOf([] { io::parsePcd("FIELDS a b\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nDATA ascii\n", "d.pcd"); })
                 .find("lacks x"),
             std::string::npos);
 }
