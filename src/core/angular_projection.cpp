@@ -103,6 +103,19 @@ std::pair<int, int> PixelAngleGrid::columnRange(float az_low, float az_high) con
           static_cast<int>(last - column_azimuth_lower_.begin())};
 }
 
+AngularBox PixelAngleGrid::extent() const {
+  const int cols = grid_.cols();
+  AngularBox box{INFINITY, -INFINITY, INFINITY, -INFINITY};
+  for (int r = 0; r < grid_.rows(); ++r) {
+    const float* az = azimuthRow(r);
+    box.az_min = std::min({box.az_min, az[0], az[cols - 1]});
+    box.az_max = std::max({box.az_max, az[0], az[cols - 1]});
+    box.el_min = std::min(box.el_min, row_min_elevation_[r]);
+    box.el_max = std::max(box.el_max, row_max_elevation_[r]);
+  }
+  return box;
+}
+
 bool PixelAngleGrid::matches(const PinholeIntrinsics& k, const StrideGrid& grid) const {
   return grid_ == grid && intrinsics_.fx == k.fx && intrinsics_.fy == k.fy &&
          intrinsics_.cx == k.cx && intrinsics_.cy == k.cy;

@@ -52,16 +52,9 @@ bool pixelBox(const PinholeIntrinsics& k, const StrideGrid& grid, double az0, do
 std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>& all_samples,
                                                 const PixelAngleGrid& angles) {
   const StrideGrid& grid = angles.grid();
-  const int rows = grid.rows(), cols = grid.cols();
   // The image's angular extent, and the samples near it.
-  float paz0 = std::numeric_limits<float>::infinity(), paz1 = -paz0, pel0 = paz0, pel1 = -paz0;
-  for (int r = 0; r < rows; ++r) {
-    const float* az = angles.azimuthRow(r);
-    paz0 = std::min({paz0, az[0], az[cols - 1]});
-    paz1 = std::max({paz1, az[0], az[cols - 1]});
-    pel0 = std::min(pel0, angles.minElevation(r));
-    pel1 = std::max(pel1, angles.maxElevation(r));
-  }
+  const AngularBox image = angles.extent();
+  const float paz0 = image.az_min, paz1 = image.az_max, pel0 = image.el_min, pel1 = image.el_max;
   const float margin_az = std::max(2.0f, 0.1f * (paz1 - paz0));
   const float margin_el = std::max(2.0f, 0.1f * (pel1 - pel0));
   std::vector<AngularSample> samples;

@@ -129,13 +129,11 @@ void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAn
     el0 = std::min(el0, s.elevation_deg);
     el1 = std::max(el1, s.elevation_deg);
   }
-  for (int r = 0; r < rows; ++r) {
-    const float* az = angles.azimuthRow(r);
-    az0 = std::min({az0, az[0], az[cols - 1]});
-    az1 = std::max({az1, az[0], az[cols - 1]});
-    el0 = std::min(el0, angles.minElevation(r));
-    el1 = std::max(el1, angles.maxElevation(r));
-  }
+  const AngularBox image = angles.extent();
+  az0 = std::min(az0, image.az_min);
+  az1 = std::max(az1, image.az_max);
+  el0 = std::min(el0, image.el_min);
+  el1 = std::max(el1, image.el_max);
   const AngularBins bins(samples, az0, az1, el0, el1);
 
   constexpr int kBlock = 8;

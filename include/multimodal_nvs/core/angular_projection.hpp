@@ -38,6 +38,11 @@ struct StrideGrid {
   bool operator==(const StrideGrid& o) const { return image == o.image && stride == o.stride; }
 };
 
+/// An axis-aligned box in the angular domain (degrees).
+struct AngularBox {
+  float az_min, az_max, el_min, el_max;
+};
+
 /// Azimuth/elevation of every grid pixel's ray, row-major, computed in float32 exactly as the
 /// reference does (normalised ray, atan2f, degrees). Depends only on intrinsics and grid, so a node
 /// computes it once per camera and reuses it for every scan.
@@ -60,6 +65,8 @@ class PixelAngleGrid {
   /// `az_high`. Exact for the float32 grid (monotone envelopes over all rows), so a search by
   /// azimuth needs one lookup per sample instead of one per sample and row.
   std::pair<int, int> columnRange(float az_low, float az_high) const;
+  /// The box holding every pixel's angles (azimuth is extreme in the first and last column).
+  AngularBox extent() const;
   bool matches(const PinholeIntrinsics& intrinsics, const StrideGrid& grid) const;
 
  private:
