@@ -3,6 +3,7 @@
 // <= 15 ms; 00549 LiDAR full resolution with the tile approximation <= 100 ms.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 
@@ -74,6 +75,18 @@ void BM_Radar08350_LocalGpExact_Retain80(benchmark::State& state) {
   p.retain_percent = 80.0;
   runCompletion(state, 8350, "radar", p);
 }
+// The node's radar configuration (config/radar.yaml) at full resolution: ground_gp, 80 % retained.
+void BM_Radar08350_GroundGp_Retain80(benchmark::State& state) {
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kGroundGp;
+  p.retain_percent = 80.0;
+  const double pitch = 6.8 * M_PI / 180.0;  // radar.yaml's ground_pitch_deg
+  p.ground.camera_height = 1.3;
+  p.ground.up_x = 0.0;
+  p.ground.up_y = -std::cos(pitch);
+  p.ground.up_z = std::sin(pitch);
+  runCompletion(state, 8350, "radar", p);
+}
 void BM_Lidar00549_TiledApprox(benchmark::State& state) {
   mm::DepthCompletionParams p;
   p.max_neighbors = static_cast<int>(state.range(0));
@@ -135,6 +148,7 @@ void BM_Radar08350_GpPrediction(benchmark::State& state) {
 
 BENCHMARK(BM_Radar08350_LocalGpExact)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_LocalGpExact_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Radar08350_GroundGp_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_Kernel)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Lidar00549_TiledApprox)->Args({16, 16})->Args({32, 16})->Args({16, 8})
     ->Unit(benchmark::kMillisecond)->MinTime(2.0);

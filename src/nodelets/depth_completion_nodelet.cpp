@@ -31,6 +31,7 @@
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
 #include "multimodal_nvs/ros/frame_synchronizer.hpp"
 #include "multimodal_nvs/ros/input_timeline.hpp"
+#include "multimodal_nvs/ros/recycled_message.hpp"
 #include "nodelet_state.hpp"
 
 namespace multimodal_nvs {
@@ -104,6 +105,9 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   image_transport::CameraPublisher depth_pub_;
   image_transport::Publisher variance_pub_, mask_pub_;
   ros::Publisher points_pub_, stats_pub_;
+  // Output messages written again once their subscribers are done with them (frame callback only).
+  RecycledMessage<sensor_msgs::Image> depth_msg_, variance_msg_, mask_msg_;
+  RecycledMessage<sensor_msgs::PointCloud2> points_msg_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -389,14 +393,25 @@ void DepthCompletionNodelet::publishOutputs(const DepthMap& depth,
   if (depth_pub_.getNumSubscribers() > 0) {
     sensor_msgs::CameraInfoPtr grid_info = rc::gridCameraInfo(info, depth.grid);
     grid_info->header = header;
-    depth_pub_.publish(rc::depthImage(depth, header), grid_info);
+    const sensor_msgs::ImagePtr image = depth_msg_.next();
+    rc::depthImage(depth, header, *image);
+    depth_pub_.publish(image, grid_info);
   }
-  if (variance_pub_.getNumSubscribers() > 0)
-    variance_pub_.publish(rc::varianceImage(depth, header));
-  if (mask_pub_.getNumSubscribers() > 0) mask_pub_.publish(rc::maskImage(depth, header));
+  if (variance_pub_.getNumSubscribers() > 0) {
+    const sensor_msgs::ImagePtr image = variance_msg_.next();
+    rc::varianceImage(depth, header, *image);
+    variance_pub_.publish(image);
+  }
+  if (mask_pub_.getNumSubscribers() > 0) {
+    const sensor_msgs::ImagePtr image = mask_msg_.next();
+    rc::maskImage(depth, header, *image);
+    mask_pub_.publish(image);
+  }
   cv::Mat rgb;
   if (points_pub_.getNumSubscribers() > 0 && accept(colour(rgb), "image")) {
-    points_pub_.publish(rc::coloredCloud(depth, intrinsics, rgb, settings.cloud_stride, header));
+    const sensor_msgs::PointCloud2Ptr cloud = points_msg_.next();
+    rc::coloredCloud(depth, intrinsics, rgb, settings.cloud_stride, header, *cloud);
+    points_pub_.publish(cloud);
   }
   const double latency_ms = (ros::Time::now() - receipt).toSec() * 1e3;
   diagnostics_.countPublished(latency_ms, depth.stats.compute_ms);

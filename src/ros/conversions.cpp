@@ -359,9 +359,9 @@ ConversionStatus intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info,
 
 namespace {
 
-sensor_msgs::ImagePtr gridImage(const StrideGrid& grid, const std::string& encoding,
-                                int bytes_per_pixel, const std_msgs::Header& header) {
-  return detail::emptyImage(grid.rows(), grid.cols(), encoding, bytes_per_pixel, header);
+void shapeGridImage(sensor_msgs::Image& image, const StrideGrid& grid, const std::string& encoding,
+                    int bytes_per_pixel, const std_msgs::Header& header) {
+  detail::shapeImage(image, grid.rows(), grid.cols(), encoding, bytes_per_pixel, header);
 }
 
 // Restrict-pointer loops: written through the message's byte vector, the stores may alias the
@@ -383,22 +383,20 @@ void maskBytes(const std::uint8_t* __restrict valid, std::size_t count,
 }
 }  // namespace
 
-sensor_msgs::ImagePtr depthImage(const DepthMap& depth, const std_msgs::Header& header) {
-  auto image = gridImage(depth.grid, enc::TYPE_32FC1, sizeof(float), header);
-  maskedDepth(depth.depth.data(), depth.valid.data(), depth.depth.size(), image->data.data());
-  return image;
+void depthImage(const DepthMap& depth, const std_msgs::Header& header, sensor_msgs::Image& image) {
+  shapeGridImage(image, depth.grid, enc::TYPE_32FC1, sizeof(float), header);
+  maskedDepth(depth.depth.data(), depth.valid.data(), depth.depth.size(), image.data.data());
 }
 
-sensor_msgs::ImagePtr varianceImage(const DepthMap& depth, const std_msgs::Header& header) {
-  auto image = gridImage(depth.grid, enc::TYPE_32FC1, sizeof(float), header);
-  std::memcpy(image->data.data(), depth.variance.data(), depth.variance.size() * sizeof(float));
-  return image;
+void varianceImage(const DepthMap& depth, const std_msgs::Header& header,
+                   sensor_msgs::Image& image) {
+  shapeGridImage(image, depth.grid, enc::TYPE_32FC1, sizeof(float), header);
+  std::memcpy(image.data.data(), depth.variance.data(), depth.variance.size() * sizeof(float));
 }
 
-sensor_msgs::ImagePtr maskImage(const DepthMap& depth, const std_msgs::Header& header) {
-  auto image = gridImage(depth.grid, enc::MONO8, 1, header);
-  maskBytes(depth.valid.data(), depth.valid.size(), image->data.data());
-  return image;
+void maskImage(const DepthMap& depth, const std_msgs::Header& header, sensor_msgs::Image& image) {
+  shapeGridImage(image, depth.grid, enc::MONO8, 1, header);
+  maskBytes(depth.valid.data(), depth.valid.size(), image.data.data());
 }
 
 sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full,
@@ -414,23 +412,22 @@ sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full,
   return info;
 }
 
-sensor_msgs::PointCloud2Ptr coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics,
-                                         const cv::Mat& rgb, int cloud_stride,
-                                         const std_msgs::Header& header) {
-  auto cloud = boost::make_shared<sensor_msgs::PointCloud2>();
-  cloud->header = header;
-  cloud->fields.resize(4);
+void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, const cv::Mat& rgb,
+                  int cloud_stride, const std_msgs::Header& header,
+                  sensor_msgs::PointCloud2& cloud) {
+  cloud.header = header;
+  cloud.fields.resize(4);
   const char* const names[4] = {"x", "y", "z", "rgb"};
   for (int i = 0; i < 4; ++i) {
-    cloud->fields[i].name = names[i];
-    cloud->fields[i].offset = 4 * i;
-    cloud->fields[i].datatype = sensor_msgs::PointField::FLOAT32;
-    cloud->fields[i].count = 1;
+    cloud.fields[i].name = names[i];
+    cloud.fields[i].offset = 4 * i;
+    cloud.fields[i].datatype = sensor_msgs::PointField::FLOAT32;
+    cloud.fields[i].count = 1;
   }
-  cloud->point_step = 16;
-  cloud->is_bigendian = hostIsBigEndian();
-  cloud->is_dense = true;
-  cloud->height = 1;
+  cloud.point_step = 16;
+  cloud.is_bigendian = hostIsBigEndian();
+  cloud.is_dense = true;
+  cloud.height = 1;
 
   const StrideGrid& grid = depth.grid;
   const int step = std::max(1, cloud_stride);
@@ -441,8 +438,8 @@ sensor_msgs::PointCloud2Ptr coloredCloud(const DepthMap& depth, const PinholeInt
     for (int c = 0; c < grid.cols(); c += step)
       count += depth.valid[std::size_t(r) * grid.cols() + c];
   }
-  cloud->data.resize(count * cloud->point_step);
-  std::uint8_t* out = cloud->data.data();
+  detail::resizeKeepingBuffer(cloud.data, count * cloud.point_step);
+  std::uint8_t* out = cloud.data.data();
   for (int r = 0; r < grid.rows(); r += step) {
     const int v = r * grid.stride;
     for (int c = 0; c < grid.cols(); c += step) {
@@ -459,12 +456,11 @@ sensor_msgs::PointCloud2Ptr coloredCloud(const DepthMap& depth, const PinholeInt
       }
       std::memcpy(out, xyz, sizeof xyz);
       std::memcpy(out + 12, &packed, sizeof packed);
-      out += cloud->point_step;
+      out += cloud.point_step;
     }
   }
-  cloud->width = static_cast<std::uint32_t>(count);
-  cloud->row_step = cloud->width * cloud->point_step;
-  return cloud;
+  cloud.width = static_cast<std::uint32_t>(count);
+  cloud.row_step = cloud.width * cloud.point_step;
 }
 
 }  // namespace ros_conversions

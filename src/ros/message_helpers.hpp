@@ -28,18 +28,33 @@ inline bool hostIsBigEndian() {
   return first_byte == 0;
 }
 
-/// A `rows` x `cols` image of `encoding`, unpadded, in the host's byte order, its data allocated
-/// (zeroed) for the caller to fill.
+/// Resizes a message's byte buffer to `size`. A buffer of about that size is kept as it is (a
+/// recycled output message: no zero-fill, no page faults); one far larger is given back, so that
+/// one huge input does not pin its memory for the rest of the run.
+template <class ByteVector>
+void resizeKeepingBuffer(ByteVector& data, std::size_t size) {
+  if (data.capacity() > 4 * size + (1u << 16)) ByteVector().swap(data);
+  data.resize(size);
+}
+
+/// Makes `image` a `rows` x `cols` image of `encoding`, unpadded, in the host's byte order, for
+/// the caller to fill (its buffer kept by resizeKeepingBuffer).
+inline void shapeImage(sensor_msgs::Image& image, int rows, int cols, const std::string& encoding,
+                       std::size_t pixel_bytes, const std_msgs::Header& header) {
+  image.header = header;
+  image.height = rows;
+  image.width = cols;
+  image.encoding = encoding;
+  image.is_bigendian = hostIsBigEndian();
+  image.step = static_cast<std::uint32_t>(cols * pixel_bytes);
+  resizeKeepingBuffer(image.data, std::size_t(image.step) * rows);
+}
+
+/// A new `rows` x `cols` image of `encoding` (see shapeImage), its data zeroed.
 inline sensor_msgs::ImagePtr emptyImage(int rows, int cols, const std::string& encoding,
                                         std::size_t pixel_bytes, const std_msgs::Header& header) {
   auto image = boost::make_shared<sensor_msgs::Image>();
-  image->header = header;
-  image->height = rows;
-  image->width = cols;
-  image->encoding = encoding;
-  image->is_bigendian = hostIsBigEndian();
-  image->step = static_cast<std::uint32_t>(cols * pixel_bytes);
-  image->data.resize(std::size_t(image->step) * rows);
+  shapeImage(*image, rows, cols, encoding, pixel_bytes, header);
   return image;
 }
 

@@ -11,6 +11,7 @@
 #include "multimodal_nvs/ros/conversions.hpp"
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
 #include "multimodal_nvs/ros/input_timeline.hpp"
+#include "multimodal_nvs/ros/recycled_message.hpp"
 
 namespace mm = multimodal_nvs;
 namespace rc = multimodal_nvs::ros_conversions;
@@ -365,9 +366,12 @@ TEST(OutputConversion, DepthVarianceAndMaskImages) {
   std_msgs::Header header;
   header.frame_id = "cam";
   header.stamp = ros::Time(12, 34);
-  const auto depth = rc::depthImage(map, header);
-  const auto variance = rc::varianceImage(map, header);
-  const auto mask = rc::maskImage(map, header);
+  const auto depth = boost::make_shared<sensor_msgs::Image>();
+  const auto variance = boost::make_shared<sensor_msgs::Image>();
+  const auto mask = boost::make_shared<sensor_msgs::Image>();
+  rc::depthImage(map, header, *depth);
+  rc::varianceImage(map, header, *variance);
+  rc::maskImage(map, header, *mask);
   for (const auto& image : {depth, variance, mask}) {
     EXPECT_EQ(image->header.frame_id, "cam");
     EXPECT_EQ(image->header.stamp, header.stamp);
@@ -387,6 +391,37 @@ TEST(OutputConversion, DepthVarianceAndMaskImages) {
     }
     EXPECT_EQ(floatAt(*variance, i), map.variance[i]);
   }
+}
+
+TEST(OutputConversion, RecycledImageIsRewrittenAndAHugeBufferGivenBack) {
+  mm::DepthMap map = makeDepthMap();
+  std_msgs::Header header;
+  sensor_msgs::Image image;
+  rc::depthImage(map, header, image);
+  const std::uint8_t* const buffer = image.data.data();
+  map.valid.assign(map.valid.size(), 1);  // every pixel kept now
+  rc::depthImage(map, header, image);
+  EXPECT_EQ(image.data.data(), buffer);  // same size: the buffer is reused
+  for (std::size_t i = 0; i < map.depth.size(); ++i)
+    EXPECT_EQ(floatAt(image, i), map.depth[i]);
+  // After a huge frame the next usual one must not keep the huge buffer.
+  image.data.resize(64u << 20);
+  rc::maskImage(map, header, image);
+  EXPECT_EQ(image.data.size(), map.valid.size());
+  EXPECT_LT(image.data.capacity(), 1u << 20);
+  EXPECT_EQ(image.encoding, enc::MONO8);
+  EXPECT_EQ(image.step, 4u);
+}
+
+TEST(RecycledMessage, HandsOutAMessageAgainOnlyWhenNobodyElseHoldsIt) {
+  mm::RecycledMessage<sensor_msgs::Image> recycled;
+  const sensor_msgs::Image* const first = recycled.next().get();
+  EXPECT_EQ(recycled.next().get(), first);                  // published and released: written again
+  const sensor_msgs::ImageConstPtr held = recycled.next();  // an in-process subscriber keeps it
+  const sensor_msgs::ImagePtr fresh = recycled.next();
+  EXPECT_NE(fresh.get(), held.get());
+  EXPECT_EQ(held.get(), first);
+  EXPECT_NE(recycled.next().get(), fresh.get());  // `fresh` is still held, by this test
 }
 
 TEST(OutputConversion, GridCameraInfoScalesByStride) {
@@ -412,8 +447,11 @@ TEST(OutputConversion, ColoredCloudBackProjectsKeptPixelsWithTheirColour) {
   }
   std_msgs::Header header;
   header.frame_id = "cam";
+  // One message for both: the second fill rewrites a message that held a larger cloud, as a
+  // recycled output does.
+  const auto cloud = boost::make_shared<sensor_msgs::PointCloud2>();
   for (int cloud_stride : {1, 2}) {
-    const auto cloud = rc::coloredCloud(map, k, rgb, cloud_stride, header);
+    rc::coloredCloud(map, k, rgb, cloud_stride, header, *cloud);
     EXPECT_EQ(cloud->header.frame_id, "cam");
     std::vector<Eigen::Vector3f> points;
     ASSERT_TRUE(rc::pointsFromCloud(*cloud, points).ok());

@@ -109,12 +109,16 @@ ConversionStatus intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info,
 // ---- Outputs
 // -------------------------------------------------------------------------------------
 
+// The images are written into a message the caller owns, so that a node can recycle its previous
+// output (RecycledMessage): a buffer of the right size is reused as it is.
+
 /// Depth 32FC1 in metres on the stride grid, NaN where the pixel is not kept (REP 118).
-sensor_msgs::ImagePtr depthImage(const DepthMap& depth, const std_msgs::Header& header);
+void depthImage(const DepthMap& depth, const std_msgs::Header& header, sensor_msgs::Image& image);
 /// Variance 32FC1 in m^2 for every grid pixel (+inf where the model made no prediction).
-sensor_msgs::ImagePtr varianceImage(const DepthMap& depth, const std_msgs::Header& header);
+void varianceImage(const DepthMap& depth, const std_msgs::Header& header,
+                   sensor_msgs::Image& image);
 /// Kept mask mono8: 255 kept, 0 not.
-sensor_msgs::ImagePtr maskImage(const DepthMap& depth, const std_msgs::Header& header);
+void maskImage(const DepthMap& depth, const std_msgs::Header& header, sensor_msgs::Image& image);
 
 /// CameraInfo describing the stride grid: the grid pixel (r, c) is the full-image pixel
 /// (c * s, r * s), so K and P divide by s (no half-pixel shift, as the grid has none).
@@ -123,10 +127,11 @@ sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full,
 
 /// XYZRGB cloud (float32 x, y, z, packed rgb) in the camera frame of the kept pixels, every
 /// `cloud_stride`-th grid pixel in each direction: P = z K^-1 [u, v, 1] at the full-image pixel,
-/// colour = `rgb` (full-image CV_8UC3) at that pixel. Unorganised, dense.
-sensor_msgs::PointCloud2Ptr coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics,
-                                         const cv::Mat& rgb, int cloud_stride,
-                                         const std_msgs::Header& header);
+/// colour = `rgb` (full-image CV_8UC3) at that pixel. Unorganised, dense. Written into `cloud`,
+/// whose buffer is reused when it is large enough.
+void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, const cv::Mat& rgb,
+                  int cloud_stride, const std_msgs::Header& header,
+                  sensor_msgs::PointCloud2& cloud);
 
 }  // namespace ros_conversions
 }  // namespace multimodal_nvs
