@@ -76,6 +76,23 @@ build() {
     > "$log" 2>&1
 }
 
+# build_or_record_failure NAME LABEL TARGETS...: build(); on failure the build is the JUnit
+# file's only (failed) case, the summary says so, and the log's tail is shown. True on success.
+build_or_record_failure() {
+  local name=$1 label=$2 log=$RESULTS/$1_build.log
+  shift 2
+  if build "$name" "$log" "$@"; then
+    junit_case build 1
+    return 0
+  fi
+  junit_case build 0 "sanitizer build failed" "$log"
+  junit_write "$name" "$RESULTS/sanitizer-$name.xml"
+  summary+=("$label: BUILD FAILED (see $log)")
+  failures=$((failures + 1))
+  tail -n 30 "$log"
+  return 1
+}
+
 # Sanitizer reports, one file per process (log_path), so that findings in child processes (the
 # tools test_core runs, the nodes rostest starts) count even when their test only checks output.
 reports_clean() {  # report directory, combined output file
@@ -88,19 +105,12 @@ reports_clean() {  # report directory, combined output file
 minutes() { printf '%dm%02ds' $(($1 / 60)) $(($1 % 60)); }
 
 run_asan() {
-  local dir=${BUILD_DIR}_asan log=$RESULTS/asan_build.log reports=$RESULTS/asan_reports
+  local dir=${BUILD_DIR}_asan reports=$RESULTS/asan_reports
   local start=$SECONDS
   junit_begin
   echo "[sanitizers] asan+ubsan: building test_core and the tools it runs into $dir"
-  if ! build asan "$log" test_core complete_depth evaluate_depth make_synthetic_scene; then
-    junit_case build 0 "sanitizer build failed" "$log"
-    junit_write asan "$RESULTS/sanitizer-asan.xml"
-    summary+=("asan+ubsan: BUILD FAILED (see $log)")
-    failures=$((failures + 1))
-    tail -n 30 "$log"
-    return
-  fi
-  junit_case build 1
+  build_or_record_failure asan "asan+ubsan" test_core complete_depth evaluate_depth \
+    make_synthetic_scene || return
   local built=$SECONDS
   rm -rf "$reports" && mkdir -p "$reports"
   # halt_on_error with -fno-sanitize-recover=all: the first finding ends the process.
@@ -134,20 +144,13 @@ run_asan() {
 }
 
 run_tsan() {
-  local dir=${BUILD_DIR}_tsan log=$RESULTS/tsan_build.log reports=$RESULTS/tsan_reports
+  local dir=${BUILD_DIR}_tsan reports=$RESULTS/tsan_reports
   local start=$SECONDS
   junit_begin
   echo "[sanitizers] tsan: building the nodelets, nodes and rostest gtests into $dir"
-  if ! build tsan "$log" multimodal_nvs_nodelets depth_completion_node conditioning_renderer_node \
-    scene_publisher test_depth_scene test_depth_bad_input test_renderer; then
-    junit_case build 0 "sanitizer build failed" "$log"
-    junit_write tsan "$RESULTS/sanitizer-tsan.xml"
-    summary+=("tsan: BUILD FAILED (see $log)")
-    failures=$((failures + 1))
-    tail -n 30 "$log"
+  build_or_record_failure tsan tsan multimodal_nvs_nodelets depth_completion_node \
+    conditioning_renderer_node scene_publisher test_depth_scene test_depth_bad_input test_renderer ||
     return
-  fi
-  junit_case build 1
   local built=$SECONDS
   rm -rf "$reports" && mkdir -p "$reports"
   # A subshell: the TSan workspace's setup.bash must not leak into the caller's environment.
