@@ -2,7 +2,11 @@
 // variance that grows away from the samples.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
+#include <utility>
+#include <vector>
 
 #include "multimodal_nvs/core/depth_completion.hpp"
 #include "multimodal_nvs/core/depth_metrics.hpp"
@@ -312,6 +316,66 @@ TEST(GroundPrior, SingleColumnGridIsCoveredByTheLattice) {
   const auto full = mm::nearestSurfaceDepth(samples, angles, 1, 1, 16, pool);
   for (float d : full.depth)
     EXPECT_FLOAT_EQ(d, 6.0f);
+}
+
+TEST(GroundPrior, NearestSurfaceTiesGoToTheEarlierSample) {
+  // Three returns in one direction are equally near every pixel: the k nearest are the earliest.
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  std::vector<mm::AngularSample> samples = {{-20.0f, 5.0f, 50.0f},
+                                            {3.0f, -2.0f, 30.0f},
+                                            {3.0f, -2.0f, 10.0f},
+                                            {3.0f, -2.0f, 20.0f},
+                                            {25.0f, 1.0f, 40.0f}};
+  const auto lattice = mm::nearestSurfaceRows(samples, angles, 2, 2, 4, pool);
+  const float at_node = lattice.depth(60, 80);  // nearest to all three: (30, 10), not (10, 20)
+  EXPECT_EQ(at_node, 30.0f);
+}
+
+TEST(GroundPrior, NearestSurfaceMatchesAFullSortAtEveryNode) {
+  // The k nearest by (squared float distance, index), as a full sort finds them; quantised angles
+  // make ties, duplicates and a support set exercise every path of the search.
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> az(-80, 80), el(-60, 60), depth(1, 60);
+  auto draw = [&](int n) {
+    std::vector<mm::AngularSample> v;
+    for (int i = 0; i < n; ++i) {
+      v.push_back({az(rng) * 0.5f, el(rng) * 0.5f, static_cast<float>(depth(rng))});
+      if (i % 7 == 3) v.push_back(v[rng() % v.size()]);
+    }
+    return v;
+  };
+  const std::vector<mm::AngularSample> samples = draw(150), support = draw(300);
+  const int step = 6;
+  for (const auto& [k, rank] : {std::pair{1, 1}, {2, 2}, {8, 2}, {8, 5}, {40, 3}}) {
+    const auto lattice = mm::nearestSurfaceRows(samples, angles, k, rank, step, pool, &support);
+    for (std::size_t i = 0; i < lattice.node_rows.size(); ++i) {
+      const int r = lattice.node_rows[i];
+      for (int c = 0; c < lattice.cols; c += step) {
+        const float qaz = angles.azimuthRow(r)[c], qel = angles.elevationRow(r)[c];
+        auto squared = [&](const mm::AngularSample& s) {
+          const float da = s.azimuth_deg - qaz, de = s.elevation_deg - qel;
+          return da * da + de * de;
+        };
+        std::vector<std::pair<float, int>> order;
+        for (std::size_t j = 0; j < samples.size(); ++j)
+          order.emplace_back(squared(samples[j]), static_cast<int>(j));
+        std::sort(order.begin(), order.end());
+        std::vector<float> depths;
+        for (int t = 0; t < k; ++t)
+          depths.push_back(samples[order[t].second].depth);
+        std::sort(depths.begin(), depths.end());
+        float nearest_support = INFINITY;
+        for (const auto& s : support)
+          nearest_support = std::min(nearest_support, squared(s));
+        const std::size_t p = i * lattice.cols + c;
+        ASSERT_EQ(lattice.depth_rows[p], depths[rank - 1]) << k << " " << r << "," << c;
+        ASSERT_EQ(lattice.distance_rows[p], static_cast<float>(std::sqrt(double(nearest_support))));
+      }
+    }
+  }
 }
 
 // --- calibration ---------------------------------------------------------------------------------
