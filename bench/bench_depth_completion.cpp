@@ -13,6 +13,8 @@
 #include "multimodal_nvs/core/io/point_files.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
 #include "multimodal_nvs/core/neighbour_sets.hpp"
+#include "multimodal_nvs/core/retention.hpp"
+#include "multimodal_nvs/core/thread_pool.hpp"
 
 namespace mm = multimodal_nvs;
 
@@ -144,6 +146,32 @@ void BM_Radar08350_GpPrediction(benchmark::State& state) {
   for (auto _ : state) mm::predictLocalGp(samples, grid, sets, params, shift, pool, out);
 }
 
+// keepLowestVariance alone on the variances and candidates of the two retain-80 cases above
+// (0: exact local_gp_mle, the threshold in a tie of two thirds of the pixels at the prior
+// variance; 1: ground_gp, few pixels near the threshold).
+void BM_Radar08350_KeepLowestVariance(benchmark::State& state) {
+  const Scan* scan = loadScan(8350, "radar");
+  if (scan == nullptr) return state.SkipWithError("VoD data not found");
+  mm::DepthCompletionParams p;
+  if (state.range(0) == 1) {
+    p.model = mm::DepthModel::kGroundGp;
+    const double pitch = 6.8 * M_PI / 180.0;
+    p.ground.camera_height = 1.3;
+    p.ground.up_x = 0.0;
+    p.ground.up_y = -std::cos(pitch);
+    p.ground.up_z = std::sin(pitch);
+  }
+  mm::DepthCompleter completer(p.threads);
+  const mm::DepthMap map = completer.complete(scan->points, scan->intrinsics, kFullResolution, p);
+  const long long keep = mm::retentionCount(80.0, map.stats.pixels);
+  std::vector<std::uint8_t> kept(map.valid.size());
+  mm::ThreadPool pool(p.threads);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(mm::keepLowestVariance(map.variance.data(), map.valid.data(),
+                                                    kept.size(), keep, kept.data(), &pool));
+  }
+}
+
 }  // namespace
 
 BENCHMARK(BM_Radar08350_LocalGpExact)->Unit(benchmark::kMillisecond)->MinTime(2.0);
@@ -155,5 +183,6 @@ BENCHMARK(BM_Lidar00549_TiledApprox)->Args({16, 16})->Args({32, 16})->Args({16, 
 BENCHMARK(BM_Radar08350_PixelAngleGrid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_NeighbourSets)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_GpPrediction)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Radar08350_KeepLowestVariance)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -163,31 +163,39 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
 
   // Valid as the reference defines it, then retention among the valid pixels. Full-image passes
   // are split into chunks whose counts are summed afterwards (deterministic for any thread count).
+  // Retention's first and last pass over the pixels (see VarianceSelection) run in the same chunk
+  // loops as marking the candidates and masking the depth, on chunks still in cache.
   const std::size_t n = static_cast<std::size_t>(grid.size());
   const bool retention = params.retain_percent < 100.0;
   out.valid.resize(n);
   if (retention) candidate_.resize(n);
   const float threshold = static_cast<float>(params.var_threshold);
-  constexpr std::size_t kChunk = 1 << 16;
+  constexpr std::size_t kChunk = VarianceSelection::kChunk;
   const long long chunks = static_cast<long long>((n + kChunk - 1) / kChunk);
   std::vector<long long> predicted_in_chunk(chunks, 0), kept_in_chunk(chunks, 0);
   float* const depth = prediction.mean.data();
   const float* const variance = prediction.variance.data();
   std::uint8_t* const valid = out.valid.data();
   std::uint8_t* const candidate = retention ? candidate_.data() : valid;
-  pool_->parallelFor(chunks, [&](long long c, int) {
+  std::unique_ptr<VarianceSelection> selection;
+  if (retention) selection = std::make_unique<VarianceSelection>(n, pool_->size());
+  pool_->parallelFor(chunks, [&](long long c, int worker) {
     const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
     const std::size_t count = std::min(n, begin + kChunk) - begin;
     predicted_in_chunk[c] =
         markCandidates(depth + begin, variance + begin, count, threshold, candidate + begin);
-    // Without retention every candidate is kept: the masking pass runs on data still in cache.
-    if (!retention) kept_in_chunk[c] = maskDepth(valid + begin, count, depth + begin);
+    if (retention) {
+      selection->count(c, worker, variance, candidate);
+    } else {  // every candidate is kept
+      kept_in_chunk[c] = maskDepth(valid + begin, count, depth + begin);
+    }
   });
   if (retention) {
-    keepLowestVariance(variance, candidate, n, retentionCount(params.retain_percent, grid.size()),
-                       valid, pool_.get());
+    selection->select(retentionCount(params.retain_percent, grid.size()), variance, candidate,
+                      pool_.get());
     pool_->parallelFor(chunks, [&](long long c, int) {
       const std::size_t begin = static_cast<std::size_t>(c) * kChunk;
+      selection->mark(c, variance, candidate, valid);
       kept_in_chunk[c] =
           maskDepth(valid + begin, std::min(n, begin + kChunk) - begin, depth + begin);
     });
