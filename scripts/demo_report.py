@@ -321,12 +321,17 @@ def main():
             have = gt > 0
             # Pixels far from every sample keep (nearly) the prior variance, the largest one.
             informed = variance < 0.5 * np.nanmax(variance)
+            # The depth file is masked (-1 where not kept), so "all predicted" differs from "kept"
+            # only without retention, and "nearby" only where kept pixels lie far from samples:
+            # a selection equal to an earlier one would only repeat its figures.
+            shown = []
             for label, sel in (("kept pixels", have & valid),
                                ("kept pixels with samples nearby (variance < half the prior)",
                                 have & valid & informed),
                                ("all predicted pixels", have & np.isfinite(depth) & (depth > 0))):
-                if sel.sum() == 0:
+                if sel.sum() == 0 or any(np.array_equal(sel, earlier) for earlier in shown):
                     continue
+                shown.append(sel)
                 err = depth[sel] - gt[sel]
                 metrics.append(("depth", "MAE vs GT, %s" % label, "%.3f m" % np.abs(err).mean(),
                                 "%d px, %s" % (sel.sum(), gt_kind)))
