@@ -390,23 +390,20 @@ void DepthCompletionNodelet::publishOutputs(const DepthMap& depth,
                                             const sensor_msgs::CameraInfo& info,
                                             const PinholeIntrinsics& intrinsics,
                                             const ColourSource& colour, const ros::Time& receipt) {
+  // The output's recycled message, filled by `convert` (rc::depthImage, varianceImage, maskImage).
+  const auto image = [&](RecycledMessage<sensor_msgs::Image>& recycled, const auto& convert) {
+    const sensor_msgs::ImagePtr message = recycled.next();
+    convert(depth, header, *message);
+    return message;
+  };
   if (depth_pub_.getNumSubscribers() > 0) {
     sensor_msgs::CameraInfoPtr grid_info = rc::gridCameraInfo(info, depth.grid);
     grid_info->header = header;
-    const sensor_msgs::ImagePtr image = depth_msg_.next();
-    rc::depthImage(depth, header, *image);
-    depth_pub_.publish(image, grid_info);
+    depth_pub_.publish(image(depth_msg_, rc::depthImage), grid_info);
   }
-  if (variance_pub_.getNumSubscribers() > 0) {
-    const sensor_msgs::ImagePtr image = variance_msg_.next();
-    rc::varianceImage(depth, header, *image);
-    variance_pub_.publish(image);
-  }
-  if (mask_pub_.getNumSubscribers() > 0) {
-    const sensor_msgs::ImagePtr image = mask_msg_.next();
-    rc::maskImage(depth, header, *image);
-    mask_pub_.publish(image);
-  }
+  if (variance_pub_.getNumSubscribers() > 0)
+    variance_pub_.publish(image(variance_msg_, rc::varianceImage));
+  if (mask_pub_.getNumSubscribers() > 0) mask_pub_.publish(image(mask_msg_, rc::maskImage));
   cv::Mat rgb;
   if (points_pub_.getNumSubscribers() > 0 && accept(colour(rgb), "image")) {
     const sensor_msgs::PointCloud2Ptr cloud = points_msg_.next();

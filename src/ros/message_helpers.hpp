@@ -1,6 +1,6 @@
 #pragma once
 // Helpers private to the conversion sources (conversions.cpp, renderer_conversions.cpp): error
-// texts and allocated output images.
+// texts, and output images shaped in a new or a recycled message.
 #include <sensor_msgs/Image.h>
 #include <boost/make_shared.hpp>
 
