@@ -409,8 +409,8 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
       const float d0 = depth[j], d1 = depth[j1], s0 = distance[j], s1 = distance[j1];
       for (int c = c0; c < end; ++c) {
         const float tx = c1 > c0 ? float(c - c0) / float(c1 - c0) : 0.0f;
-        if (!front.empty()) depth_out[c] = (1 - tx) * d0 + tx * d1;
-        distance_out[c] = (1 - tx) * s0 + tx * s1;
+        if (!front.empty()) depth_out[c] = NearestSurfaceRows::lerp(d0, d1, tx);
+        distance_out[c] = NearestSurfaceRows::lerp(s0, s1, tx);
       }
     }
   });
