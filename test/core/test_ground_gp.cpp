@@ -62,6 +62,25 @@ TEST(GroundPrior, NearestSurfaceTakesTheRankedDepthAmongTheNearestSamples) {
               1e-4);
 }
 
+namespace {
+// ground_gp's parameters; `input` forces its dense (LiDAR) or sparse (radar) mode, or leaves it
+// automatic.
+mm::DepthCompletionParams groundGpParams(
+    mm::GroundPriorParams::Input input = mm::GroundPriorParams::Input::kAuto) {
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  params.ground.input = input;
+  return params;
+}
+
+// One completion of the small camera's full image.
+mm::DepthMap completeSmallImage(const std::vector<Eigen::Vector3d>& points,
+                                const mm::DepthCompletionParams& params, int threads = 2) {
+  mm::DepthCompleter completer(threads);
+  return completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+}
+}  // namespace
+
 TEST(GroundGp, RecoversAFlatRoadAndItsVarianceGrowsAwayFromSamples) {
   // Samples on the ground plane 1.3 m below a level camera, only in the lower-left quadrant.
   std::vector<Eigen::Vector3d> points;
@@ -71,10 +90,7 @@ TEST(GroundGp, RecoversAFlatRoadAndItsVarianceGrowsAwayFromSamples) {
       points.push_back(pointOnPixelRay(smallCamera(), u, v, z));
     }
   }
-  mm::DepthCompletionParams params;
-  params.model = mm::DepthModel::kGroundGp;
-  mm::DepthCompleter completer(2);
-  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  const auto map = completeSmallImage(points, groundGpParams());
   for (int v : {75, 90, 110}) {
     for (int u : {10, 70, 150}) {  // the right half has no sample: the ground prior covers it
       const double truth = 1.3 / ((v - 60) / 100.0);
@@ -96,10 +112,7 @@ TEST(GroundGp, NearReturnsWinOverFarOnes) {
     points.push_back(pointOnPixelRay(smallCamera(), u, 50, 6.0));
     points.push_back(pointOnPixelRay(smallCamera(), u + 3, 52, 40.0));
   }
-  mm::DepthCompletionParams params;
-  params.model = mm::DepthModel::kGroundGp;
-  mm::DepthCompleter completer(1);
-  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  const auto map = completeSmallImage(points, groundGpParams(), 1);
   EXPECT_NEAR(map.depth[std::size_t(50) * 160 + 80], 6.0, 1.0);
 }
 
@@ -156,13 +169,10 @@ TEST(GroundGpDense, InverseDepthInterpolationIsExactOnTheRoad) {
   // of the image position on any plane, so interpolating it is nearly exact.
   const auto road = [](int, int v) { return 1.3 / ((v - 60) / 100.0); };
   const auto points = denseScan(66, 120, 6, road);
-  mm::DepthCompletionParams params;
-  params.model = mm::DepthModel::kGroundGp;
-  params.ground.input = mm::GroundPriorParams::Input::kDense;
-  mm::DepthCompleter completer(2);
-  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  const auto map = completeSmallImage(points, params);
   params.model = mm::DepthModel::kLinear;
-  const auto linear = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  const auto linear = completeSmallImage(points, params);
   double worst = 0.0, worst_linear = 0.0;
   for (int v = 69; v < 114; ++v) {
     for (int u = 10; u < 150; u += 7) {
@@ -183,12 +193,9 @@ TEST(GroundGpDense, OcclusionEdgesAreNotBlended) {
     return u >= 60 && u < 100 && v >= 30 && v < 70 ? 5.0 : 20.0;
   };
   const auto points = denseScan(0, 120, 3, scene);
-  mm::DepthCompletionParams params;
-  params.model = mm::DepthModel::kGroundGp;
+  mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
   params.ground.camera_height = 100.0;  // no ground in view: only the edge logic is tested
-  params.ground.input = mm::GroundPriorParams::Input::kDense;
-  mm::DepthCompleter completer(2);
-  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  const auto map = completeSmallImage(points, params);
   int blended = 0;
   for (int v = 3; v < 117; ++v) {
     for (int u = 3; u < 157; ++u) {
@@ -213,11 +220,8 @@ TEST(GroundGpDense, ColumnsExtendTheirTopmostReturnUpward) {
     return v > 60 ? std::min(wall, 1.3 / ((v - 60) / 100.0)) : wall;
   };
   const auto points = denseScan(40, 120, 4, scene);
-  mm::DepthCompletionParams params;
-  params.model = mm::DepthModel::kGroundGp;
-  params.ground.input = mm::GroundPriorParams::Input::kDense;
-  mm::DepthCompleter completer(2);
-  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  const mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  const auto map = completeSmallImage(points, params);
   for (int u = 2; u < 158; u += 13) {
     for (int v = 0; v < 38; v += 5) {
       EXPECT_NEAR(map.depth[std::size_t(v) * 160 + u], wall, 1e-3) << u << "," << v;
@@ -242,11 +246,8 @@ TEST(GroundGpDense, TrianglesBridgingAnEmptyRegionDoNotOverrideTheExtension) {
   const double wall = 8.0;
   auto points = denseScan(40, 120, 2, [wall](int, int) { return wall; });
   points.push_back(pointOnPixelRay(smallCamera(), 150, 2, 8.6));
-  mm::DepthCompletionParams params;
-  params.model = mm::DepthModel::kGroundGp;
-  params.ground.input = mm::GroundPriorParams::Input::kDense;
-  mm::DepthCompleter completer(2);
-  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  const mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  const auto map = completeSmallImage(points, params);
   // Triangles with an edge over 20 mean spacings (here ~2 px, so ~23 deg) bridge; nearer the roof
   // return the triangles are shorter and their interpolation stands.
   for (const auto& [v, u] : {std::pair{20, 116}, {20, 124}, {30, 92}, {30, 100}, {30, 116}}) {
@@ -260,11 +261,8 @@ TEST(GroundGpDense, ColumnsWhoseTopReturnIsGroundAreNotExtended) {
   // whose uncertainty starts at relative_sigma.
   const auto road = [](int, int v) { return 1.3 / ((v - 60) / 100.0); };
   const auto points = denseScan(70, 120, 4, road);
-  mm::DepthCompletionParams params;
-  params.model = mm::DepthModel::kGroundGp;
-  params.ground.input = mm::GroundPriorParams::Input::kDense;
-  mm::DepthCompleter completer(2);
-  const auto map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  const mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  const auto map = completeSmallImage(points, params);
   const std::size_t above = std::size_t(50) * 160 + 80;
   EXPECT_GE(std::sqrt(map.variance[above]) / map.depth[above], params.ground.relative_sigma);
 }
