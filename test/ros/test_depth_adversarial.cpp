@@ -191,7 +191,6 @@ class Harness {
   ros::NodeHandle nh_;
   ros::Publisher clock_pub_;
   ss::InputPublishers inputs_{nh_, 2};
-  ros::Subscriber depth_sub_, diagnostics_sub_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
   tf2_ros::TransformBroadcaster tf_;
   mutable std::mutex clock_mutex_;
@@ -203,6 +202,9 @@ class Harness {
   std::map<ros::Time, int> outputs_;
   std::map<ros::Time, std::pair<std::uint32_t, std::uint32_t>> output_sizes_;
   std::map<std::string, std::string> diagnostics_;
+  // Last, so destroyed first: a callback still arriving must not write into the members above
+  // after they are gone (the spinner threads run until after the tests).
+  ros::Subscriber depth_sub_, diagnostics_sub_;
 };
 
 std::unique_ptr<Harness> g_harness;  // created in main, after ros::init

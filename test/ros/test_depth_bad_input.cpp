@@ -86,12 +86,14 @@ class BadInputTest : public ::testing::Test {
   }
 
   ros::NodeHandle nh_;
-  ros::Subscriber depth_sub_, diagnostics_sub_;
   ss::InputPublishers inputs_{nh_, 5};
   tf2_ros::StaticTransformBroadcaster static_tf_;
   std::mutex mutex_;
   std::set<ros::Time> output_stamps_;
   std::map<std::string, std::string> rejected_;
+  // Last, so destroyed first: a callback still arriving must not write into the members above
+  // after they are gone (the spinner threads run until after the tests).
+  ros::Subscriber depth_sub_, diagnostics_sub_;
 };
 
 TEST_F(BadInputTest, RejectsEachBadInputAndRecovers) {

@@ -201,12 +201,14 @@ class RendererTest : public ::testing::Test {
 
   ros::NodeHandle nh_;
   std::string ns_;
-  std::vector<ros::Subscriber> subs_;
   ros::Publisher image_pub_, depth_pub_, mask_pub_, info_pub_;
   tf2_ros::TransformBroadcaster tf_;
   std::mutex mutex_;
   Outputs out_;
   std::map<std::string, std::string> diagnostics_;
+  // Last, so destroyed first: a callback still arriving must not write into the members above
+  // after they are gone (the spinner threads run until after the tests).
+  std::vector<ros::Subscriber> subs_;
 };
 
 /// Checks header, sizes and encodings of the five outputs of one frame; mask values exactly
