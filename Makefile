@@ -35,7 +35,7 @@ demo: build
 	@scripts/demo.sh $(BUILD_DIR)
 
 bench: build
-	@scripts/bench.sh $(BUILD_DIR)
+	@bench/run_benchmarks.sh $(BUILD_DIR)
 
 # The paper's depth and novel-view tables with the baselines (README, section Evaluation).
 eval: build

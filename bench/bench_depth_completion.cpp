@@ -1,5 +1,5 @@
 // Depth-completion benchmarks on real VoD frames (MMNVS_DATA_DIR, default ../shared/data).
-// Targets (issue 2): 08350 radar full resolution exact local_gp_mle <= 25 ms median, kernel
+// Targets: 08350 radar full resolution exact local_gp_mle <= 25 ms median, kernel
 // <= 15 ms; 00549 LiDAR full resolution with the tile approximation <= 100 ms.
 #include <benchmark/benchmark.h>
 
@@ -7,14 +7,19 @@
 #include <cstdlib>
 #include <iostream>
 
-#include "multimodal_nvs/core/depth_completion.hpp"
-#include "multimodal_nvs/core/depth_models.hpp"
+#include "multimodal_nvs/core/common/stride_grid.hpp"
+#include "multimodal_nvs/core/common/thread_pool.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/depth/depth_shift.hpp"
+#include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
+#include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
+#include "multimodal_nvs/core/depth/neighbour_sets.hpp"
+#include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+#include "multimodal_nvs/core/depth/retention.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
-#include "multimodal_nvs/core/neighbour_sets.hpp"
-#include "multimodal_nvs/core/retention.hpp"
-#include "multimodal_nvs/core/thread_pool.hpp"
 
 namespace mm = multimodal_nvs;
 
@@ -39,9 +44,9 @@ const Scan* loadScan(int frame, const std::string& sensor) {
   const auto calib = mm::io::readKittiCalib(f.calib(sensor));
   Scan scan;
   scan.intrinsics = calib.intrinsics();
-  scan.points = mm::transformToCamera(
-      mm::io::readPoints(f.points(sensor), mm::io::parsePointFormat(sensor)),
-      calib.sensorToCamera());
+  scan.points =
+      mm::transformToCamera(mm::io::readPoints(f.points(sensor), mm::io::parsePointFormat(sensor)),
+                            calib.sensorToCamera());
   return &(cache[key] = scan);
 }
 
@@ -116,7 +121,8 @@ void BM_Radar08350_NeighbourSets(benchmark::State& state) {
     state.counters["segments"] = static_cast<double>(sets.segments().size());
     state.counters["sets"] = sets.setCount();
     double members = 0, pixel_members = 0;
-    for (int s = 0; s < sets.setCount(); ++s) members += sets.setSize(s);
+    for (int s = 0; s < sets.setCount(); ++s)
+      members += sets.setSize(s);
     for (const auto& seg : sets.segments()) {
       pixel_members += double(seg.col_end - seg.col_begin) * sets.setSize(seg.set_id);
     }
@@ -143,7 +149,8 @@ void BM_Radar08350_GpPrediction(benchmark::State& state) {
   mm::DepthCompletionParams params;
   const double shift = mm::computeShift(params.shift, samples);
   mm::PixelPredictions out;
-  for (auto _ : state) mm::predictLocalGp(samples, grid, sets, params, shift, pool, out);
+  for (auto _ : state)
+    mm::predictLocalGp(samples, grid, sets, params, shift, pool, out);
 }
 
 // keepLowestVariance alone on the variances and candidates of the two retain-80 cases above
@@ -178,8 +185,12 @@ BENCHMARK(BM_Radar08350_LocalGpExact)->Unit(benchmark::kMillisecond)->MinTime(2.
 BENCHMARK(BM_Radar08350_LocalGpExact_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_GroundGp_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_Kernel)->Unit(benchmark::kMillisecond)->MinTime(2.0);
-BENCHMARK(BM_Lidar00549_TiledApprox)->Args({16, 16})->Args({32, 16})->Args({16, 8})
-    ->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Lidar00549_TiledApprox)
+    ->Args({16, 16})
+    ->Args({32, 16})
+    ->Args({16, 8})
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(2.0);
 BENCHMARK(BM_Radar08350_PixelAngleGrid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_NeighbourSets)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_GpPrediction)->Unit(benchmark::kMillisecond);

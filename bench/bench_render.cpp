@@ -8,9 +8,9 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 
-#include "multimodal_nvs/core/backprojection.hpp"
-#include "multimodal_nvs/core/splatting.hpp"
-#include "multimodal_nvs/core/trajectory.hpp"
+#include "multimodal_nvs/core/render/backprojection.hpp"
+#include "multimodal_nvs/core/render/splatting.hpp"
+#include "multimodal_nvs/core/render/trajectory.hpp"
 
 namespace mm = multimodal_nvs;
 
@@ -19,7 +19,9 @@ namespace {
 constexpr int kSourceHeight = 1216, kSourceWidth = 1936;
 
 /// VoD-like camera (P2 of the shared calibration, rounded).
-mm::PinholeIntrinsics sourceIntrinsics() { return {1495.5, 1495.5, 961.3, 624.9}; }
+mm::PinholeIntrinsics sourceIntrinsics() {
+  return {1495.5, 1495.5, 961.3, 624.9};
+}
 
 /// A street-like depth map: ground plane below the horizon, a far wall above, and boxes in front,
 /// every pixel kept, so the cloud has the full 2.35 M points.
@@ -32,7 +34,7 @@ const mm::ColoredCloud& syntheticCloud() {
     for (int v = 0; v < kSourceHeight; ++v) {
       for (int u = 0; u < kSourceWidth; ++u) {
         const double ray_y = (v - k.cy) / k.fy;
-        double z = 60.0;                           // far wall
+        double z = 60.0;                                    // far wall
         if (ray_y > 1e-3) z = std::min(60.0, 1.5 / ray_y);  // ground 1.5 m below the camera
         if ((u / 200) % 3 == 1 && v > 400 && v < 900) z = std::min(z, 8.0 + (u / 200) * 2.0);
         depth.at<float>(v, u) = static_cast<float>(z);
@@ -48,11 +50,13 @@ mm::Trajectory drivingTrajectory() {
   std::vector<Eigen::Matrix4d> poses;
   for (int i = 0; i < 16; ++i) {
     Eigen::Matrix4d c2w = Eigen::Matrix4d::Identity();
-    c2w.topLeftCorner<3, 3>() = Eigen::AngleAxisd(i * 2.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    c2w.topLeftCorner<3, 3>() =
+        Eigen::AngleAxisd(i * 2.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
     c2w(2, 3) = 0.6 * i;
     poses.push_back(c2w);
   }
-  const mm::PinholeIntrinsics target = sourceIntrinsics().scaledTo(kSourceHeight, kSourceWidth, 704, 1280);
+  const mm::PinholeIntrinsics target =
+      sourceIntrinsics().scaledTo(kSourceHeight, kSourceWidth, 704, 1280);
   return mm::recordedTrajectory(poses, 121, target, {704, 1280});
 }
 
@@ -74,12 +78,28 @@ void renderAll(benchmark::State& state, mm::SplatMode mode) {
   state.counters["threads"] = splatter.threads();
 }
 
-void BM_Render121Zbuffer(benchmark::State& state) { renderAll(state, mm::SplatMode::kZbuffer); }
-void BM_Render121Gen3c(benchmark::State& state) { renderAll(state, mm::SplatMode::kGen3c); }
+void BM_Render121Zbuffer(benchmark::State& state) {
+  renderAll(state, mm::SplatMode::kZbuffer);
+}
+void BM_Render121Gen3c(benchmark::State& state) {
+  renderAll(state, mm::SplatMode::kGen3c);
+}
 
 }  // namespace
 
-BENCHMARK(BM_Render121Zbuffer)->Arg(2)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1)->MeasureProcessCPUTime()->UseRealTime();
-BENCHMARK(BM_Render121Gen3c)->Arg(2)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_Render121Zbuffer)
+    ->Arg(2)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK(BM_Render121Gen3c)
+    ->Arg(2)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 BENCHMARK_MAIN();

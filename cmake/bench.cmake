@@ -1,4 +1,7 @@
-# Benchmarks (Google Benchmark); targets live here, never in timed unit tests.
+# Benchmarks (not tests: speed targets live here, never in timed unit tests). `make bench` runs
+# bench/run_benchmarks.sh, which prints the median of every case.
+#   bench/*.cpp      Google Benchmark binaries over the core (one executable per file)
+#   bench/ros/*.cpp  harnesses that drive a running node (need a master; see each file's header)
 find_package(benchmark QUIET)
 file(GLOB MMNVS_BENCH_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/bench/*.cpp)
 if(benchmark_FOUND)
@@ -10,3 +13,13 @@ if(benchmark_FOUND)
       MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}")
   endforeach()
 endif()
+
+# Node latency harness: bench/ros/bench_depth_node.sh starts the node and drives it with this.
+add_executable(bench_depth_node bench/ros/bench_depth_node.cpp)
+target_link_libraries(bench_depth_node multimodal_nvs_ros)
+add_dependencies(bench_depth_node ${PROJECT_NAME}_generate_messages_cpp)
+
+# Latency of a running renderer in tf mode (built on request: make bench_renderer; see its header).
+add_executable(bench_renderer EXCLUDE_FROM_ALL bench/ros/bench_renderer.cpp)
+target_include_directories(bench_renderer SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+target_link_libraries(bench_renderer ${catkin_LIBRARIES} ${OpenCV_LIBS})

@@ -1,15 +1,25 @@
-# Layer 1: the ROS-free core (Eigen + OpenCV only).
-file(GLOB MMNVS_CORE_SOURCES CONFIGURE_DEPENDS
-  ${CMAKE_CURRENT_SOURCE_DIR}/src/core/*.cpp ${CMAKE_CURRENT_SOURCE_DIR}/src/core/*/*.cpp)
+# Layer 1: the ROS-free core (Eigen + OpenCV only): every .cpp under src/core/, one folder a topic.
+file(GLOB_RECURSE MMNVS_CORE_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/core/*.cpp)
 add_library(multimodal_nvs_core ${MMNVS_CORE_SOURCES})
-# The per-pixel GP prediction needs no bit-level parity, so it may use fused multiply-add.
-set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/src/core/gp_prediction.cpp
-  PROPERTIES COMPILE_OPTIONS -ffp-contract=fast)
 target_include_directories(multimodal_nvs_core PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
 target_include_directories(multimodal_nvs_core SYSTEM PUBLIC
   ${EIGEN3_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
 target_link_libraries(multimodal_nvs_core PUBLIC ${OpenCV_LIBS} Threads::Threads)
 set_target_properties(multimodal_nvs_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
+
+# Files that need flags of their own (the package default is -ffp-contract=off, for parity).
+# The per-pixel GP prediction needs no bit-level parity with the reference, so it may use fused
+# multiply-add.
+set(MMNVS_FUSED_MULTIPLY_ADD_SOURCES src/core/depth/gp/gp_prediction.cpp)
+# ground_gp's full-image pass chooses between ground, surface and far depth per pixel; GCC turns
+# those choices into vector blends only if floating-point exceptions need not be preserved (nothing
+# reads the FP status flags; results are unchanged).
+set(MMNVS_NO_TRAPPING_MATH_SOURCES src/core/depth/models/ground_gp_model.cpp)
+mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -ffp-contract=fast
+  SOURCES ${MMNVS_FUSED_MULTIPLY_ADD_SOURCES})
+mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -fno-trapping-math
+  SOURCES ${MMNVS_NO_TRAPPING_MATH_SOURCES})
+
 install(TARGETS multimodal_nvs_core
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})

@@ -29,13 +29,6 @@ foreach(node_source ${MMNVS_NODE_SOURCES})
   install(TARGETS ${node} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 endforeach()
 
-# Latency benchmark of the running node (not a test): scripts/bench_depth_node.sh drives it.
-if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/scripts/bench_depth_node.cpp)
-  add_executable(bench_depth_node ${CMAKE_CURRENT_SOURCE_DIR}/scripts/bench_depth_node.cpp)
-  target_link_libraries(bench_depth_node multimodal_nvs_ros)
-  add_dependencies(bench_depth_node ${PROJECT_NAME}_generate_messages_cpp)
-endif()
-
 install(TARGETS multimodal_nvs_ros multimodal_nvs_nodelets
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})

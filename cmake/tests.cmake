@@ -1,14 +1,42 @@
-# Core unit tests: one gtest binary from test/core/*.cpp, no ROS master needed.
-file(GLOB MMNVS_CORE_TEST_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test/core/*.cpp)
+# Tests mirror the source tree. Included from CMakeLists.txt when testing is enabled.
+#   test/core/**   one gtest binary over the core, no ROS master
+#   test/tools/    the command-line tools run as processes on inputs the tests write
+#   test/ros/      conversions (plain gtest) and the nodelets (rostest), in the cmake/*_tests.cmake
+file(GLOB_RECURSE MMNVS_CORE_TEST_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test/core/*.cpp)
 catkin_add_gtest(test_core ${MMNVS_CORE_TEST_SOURCES} WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
 target_link_libraries(test_core multimodal_nvs_core multimodal_nvs_cli ${GTEST_MAIN_LIBRARIES})
 target_include_directories(test_core PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
 target_compile_definitions(test_core PRIVATE
   MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}"
   MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+# test_synthetic_scene runs make_synthetic_scene as a process.
+add_dependencies(test_core make_synthetic_scene)
 
-# ROS-side tests (rostest, gtest-in-rostest) register themselves in ros_tests.cmake.
-include(cmake/ros_tests.cmake OPTIONAL)
-include(cmake/renderer_ros_tests.cmake OPTIONAL)
-include(cmake/bag_tests.cmake OPTIONAL)
-include(cmake/pipeline_tests.cmake OPTIONAL)
+# The ROS-free tools end to end. vod_to_bag's test reads its bag back with rosbag, so it is a binary
+# of its own (the sanitizer build runs test_tools without linking ROS).
+set(MMNVS_TOOL_TESTS test_complete_depth_tool test_evaluate_tool test_render_conditioning_tool)
+set(MMNVS_TOOL_TEST_SOURCES)
+foreach(test ${MMNVS_TOOL_TESTS})
+  list(APPEND MMNVS_TOOL_TEST_SOURCES test/tools/${test}.cpp)
+endforeach()
+catkin_add_gtest(test_tools ${MMNVS_TOOL_TEST_SOURCES} WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
+target_link_libraries(test_tools multimodal_nvs_core multimodal_nvs_cli ${GTEST_MAIN_LIBRARIES})
+target_include_directories(test_tools PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
+target_compile_definitions(test_tools PRIVATE
+  MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}"
+  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+add_dependencies(test_tools complete_depth evaluate_depth render_conditioning make_synthetic_scene)
+
+catkin_add_gtest(test_vod_to_bag test/tools/test_vod_to_bag.cpp
+  WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
+target_include_directories(test_vod_to_bag PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
+target_include_directories(test_vod_to_bag SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+target_link_libraries(test_vod_to_bag multimodal_nvs_core ${catkin_LIBRARIES} ${GTEST_MAIN_LIBRARIES})
+target_compile_definitions(test_vod_to_bag PRIVATE
+  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+add_dependencies(test_vod_to_bag vod_to_bag make_synthetic_scene)
+
+# ROS-side tests: conversions (plain gtest) and the nodelets (rostest, gtest-in-rostest).
+include(cmake/ros_tests.cmake)
+include(cmake/renderer_ros_tests.cmake)
+include(cmake/pipeline_tests.cmake)

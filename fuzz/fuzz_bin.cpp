@@ -3,7 +3,7 @@
 #include <cstring>
 
 #include "fuzz_input.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
 
 namespace io = multimodal_nvs::io;

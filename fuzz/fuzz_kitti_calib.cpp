@@ -1,6 +1,6 @@
 // KITTI/VoD calibration text (io::parseKittiCalib) and the accessors the tools call on it.
 #include "fuzz_input.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 
 namespace io = multimodal_nvs::io;

@@ -1,6 +1,6 @@
 // NumPy .npy arrays (io::parseNpy) and their conversion to float (NpyArray::asFloat).
 #include "fuzz_input.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 
 namespace io = multimodal_nvs::io;

@@ -1,6 +1,6 @@
 // PCD v0.7 point files, ascii and binary (io::parsePcd).
 #include "fuzz_input.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
 
 namespace io = multimodal_nvs::io;

@@ -2,7 +2,7 @@
 #include <cmath>
 
 #include "fuzz_input.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/vod_pose.hpp"
 
 namespace io = multimodal_nvs::io;

@@ -419,7 +419,7 @@ def main():
                             name = "%s (%s)" % (key.replace("_", " "), note)
                             metrics.append(("novel views", name, fmt(summary[key], 4),
                                             "conditioning renders vs recorded frames, "
-                                            "REFERENCE.md section 5"))
+                                            "the paper's metric protocol"))
             except ValueError:
                 pass
         sections.append('<h2>Conditioning frames (recorded trajectory %s)</h2>%s<div class="grid">'

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Sanitizer builds of `make test` (issue 7). Usage: scripts/sanitizer_tests.sh [BUILD_DIR]
+# Sanitizer builds of `make test`. Usage: scripts/sanitizer_tests.sh [BUILD_DIR]
 #
-#   asan  BUILD_DIR_asan: test_core (core, I/O and the ROS-free tools it runs as processes) under
+#   asan  BUILD_DIR_asan: test_core and test_tools (core, I/O, the tools run as processes) under
 #         AddressSanitizer + LeakSanitizer + UndefinedBehaviorSanitizer, -fno-sanitize-recover=all.
 #   tsan  BUILD_DIR_tsan: the nodelet rostests (depth completion: scene, raw and compressed, and
 #         bad input; conditioning renderer) under ThreadSanitizer, nodes run standalone.
@@ -108,9 +108,9 @@ run_asan() {
   local dir=${BUILD_DIR}_asan reports=$RESULTS/asan_reports
   local start=$SECONDS
   junit_begin
-  echo "[sanitizers] asan+ubsan: building test_core and the tools it runs into $dir"
-  build_or_record_failure asan "asan+ubsan" test_core complete_depth evaluate_depth \
-    make_synthetic_scene || return
+  echo "[sanitizers] asan+ubsan: building test_core, test_tools and the tools they run into $dir"
+  build_or_record_failure asan "asan+ubsan" test_core test_tools complete_depth evaluate_depth \
+    render_conditioning make_synthetic_scene || return
   local built=$SECONDS
   rm -rf "$reports" && mkdir -p "$reports"
   # halt_on_error with -fno-sanitize-recover=all: the first finding ends the process.
@@ -122,15 +122,19 @@ run_asan() {
   # 4 minutes under ASan (large neighbour sets; a few seconds in Release) and exercises no code the
   # radar cases do not; the normal build runs all of them.
   export MMNVS_PARITY_CASES='.*_radar_.*'
-  local out=$RESULTS/asan_test_core.log
-  "$dir/devel/lib/multimodal_nvs/test_core" \
-    --gtest_output="xml:$RESULTS/asan-gtest-test_core.xml" > "$out" 2>&1
-  local rc=$?
+  local rc=0 out binary binary_rc
+  for binary in test_core test_tools; do
+    out=$RESULTS/asan_$binary.log
+    "$dir/devel/lib/multimodal_nvs/$binary" \
+      --gtest_output="xml:$RESULTS/asan-gtest-$binary.xml" > "$out" 2>&1
+    binary_rc=$?
+    grep -E '^\[  FAILED  \]|^\[  PASSED  \]' "$out" | sort -u
+    junit_case "${binary}_exit_status" $((binary_rc == 0)) "$binary exited with $binary_rc" "$out"
+    if ((binary_rc != 0)); then rc=$binary_rc; tail -n 30 "$out"; fi
+  done
   unset ASAN_OPTIONS UBSAN_OPTIONS MMNVS_PARITY_CASES
-  grep -E '^\[  FAILED  \]|^\[  PASSED  \]' "$out" | sort -u
   local clean=1
   reports_clean "$reports" "$RESULTS/asan_reports.txt" || clean=0
-  junit_case test_core_exit_status $((rc == 0)) "test_core exited with $rc" "$out"
   junit_case no_asan_ubsan_reports "$clean" "sanitizer reports" "$RESULTS/asan_reports.txt"
   junit_write asan "$RESULTS/sanitizer-asan.xml"
   local verdict=ok
@@ -138,9 +142,8 @@ run_asan() {
     verdict=FAILED
     failures=$((failures + 1))
     ((clean)) || head -n 60 "$RESULTS/asan_reports.txt"
-    ((rc == 0)) || tail -n 30 "$out"
   fi
-  summary+=("asan+ubsan: $verdict (test_core exit $rc, reports: $((1 - clean)); build $(minutes $((built - start))), run $(minutes $((SECONDS - built))))")
+  summary+=("asan+ubsan: $verdict (tests exit $rc, reports: $((1 - clean)); build $(minutes $((built - start))), run $(minutes $((SECONDS - built))))")
 }
 
 run_tsan() {

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Generate the golden (input bits, numpy output bits) pairs of test/core/test_numpy_math.cpp.
+"""Generate the golden (input bits, numpy output bits) pairs of test/core/depth/gp/test_numpy_math.cpp.
 
 Run once with the system numpy (Debian 12: numpy 1.24.2, /usr/bin/python3) on the machine whose
 np.exp / np.log the C++ core must reproduce, and paste the two printed tables into the test:
@@ -26,7 +26,7 @@ N_EXP = 200
 N_LOG = 200
 
 # Top 16 mantissa bits at which VRCP14PD(m), rounded to 5 fractional bits, steps down by 1/32
-# (measured on the target CPU; mirrors kLogRcpStepTop16 in src/core/numpy_math.cpp).
+# (measured on the target CPU; mirrors kLogRcpStepTop16 in src/core/depth/gp/numpy_math.cpp).
 RCP_STEPS = [0x040F, 0x0C97, 0x15B4, 0x1F70, 0x29E6, 0x3523, 0x4143, 0x4E5F,
              0x5C99, 0x6C15, 0x7D07, 0x8F9C, 0xA41A, 0xBAD0, 0xD41C, 0xF080]
 
@@ -71,7 +71,7 @@ def pick(rng, fn_np, fn_math, draw, count, need_diff=True, keep=None):
 
 
 # --- A Python model of numpy's log kernel (SVML __svml_log8 main path), used only to find
-# --- arguments whose result depends on the VRCP14PD reciprocal (see src/core/numpy_math.cpp).
+# --- arguments whose result depends on the VRCP14PD reciprocal (see src/core/depth/gp/numpy_math.cpp).
 LOG_TABLE = [float.fromhex(h) for h in (
     "0x0.0p+0", "-0x1.f0a30c01162a6p-5", "-0x1.e27076e2af2e6p-4", "-0x1.5ff3070a793d4p-3",
     "-0x1.c8ff7c79a9a22p-3", "-0x1.1675cababa60ep-2", "-0x1.4618bc21c5ec2p-2",

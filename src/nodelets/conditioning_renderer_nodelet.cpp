@@ -28,12 +28,12 @@
 #include <optional>
 
 #include "conditioning_renderer_diagnostics.hpp"
-#include "multimodal_nvs/core/backprojection.hpp"
-#include "multimodal_nvs/core/errors.hpp"
-#include "multimodal_nvs/core/gen3c_export.hpp"
-#include "multimodal_nvs/core/preview.hpp"
-#include "multimodal_nvs/core/splatting.hpp"
-#include "multimodal_nvs/core/trajectory.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/render/backprojection.hpp"
+#include "multimodal_nvs/core/render/gen3c_export.hpp"
+#include "multimodal_nvs/core/render/preview.hpp"
+#include "multimodal_nvs/core/render/splatting.hpp"
+#include "multimodal_nvs/core/render/trajectory.hpp"
 #include "multimodal_nvs/ros/renderer_conversions.hpp"
 #include "nodelet_state.hpp"
 

@@ -25,8 +25,8 @@
 // The generated depth/stats message shares its name with the core's multimodal_nvs::
 // DepthCompletionStats, so it is built in depth_completion_stats.cpp, out of this file's sight.
 #include "depth_completion_stats.hpp"
-#include "multimodal_nvs/core/depth_completion.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/ros/conversions.hpp"
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
 #include "multimodal_nvs/ros/frame_synchronizer.hpp"

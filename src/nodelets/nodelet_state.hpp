@@ -10,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 

@@ -1,4 +1,5 @@
 #pragma once
+// A diagnostic task published on a wall timer, so diagnostics flow while a bag is paused.
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <ros/ros.h>
 

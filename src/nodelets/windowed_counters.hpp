@@ -1,4 +1,5 @@
 #pragma once
+// Diagnostic counters kept per report window and since start, updated under one lock.
 #include <ros/time.h>
 
 #include <algorithm>

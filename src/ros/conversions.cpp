@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "message_helpers.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 namespace ros_conversions {

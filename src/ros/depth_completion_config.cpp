@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "message_helpers.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 

@@ -9,13 +9,14 @@
 
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
-#include "multimodal_nvs/core/depth_completion.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/colormap.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
-#include "multimodal_nvs/core/visualization.hpp"
 
 namespace mm = multimodal_nvs;
 
@@ -23,7 +24,8 @@ namespace {
 
 void declareOptions(mm::cli::Args& args) {
   mm::cli::declareDepthModelOptions(args);
-  args.option("points", 1, "scan file: VoD radar .bin (7 floats), LiDAR .bin (4), xyz .bin (3) or .pcd");
+  args.option("points", 1,
+              "scan file: VoD radar .bin (7 floats), LiDAR .bin (4), xyz .bin (3) or .pcd");
   args.option("format", 1, "radar|lidar|xyz|pcd (default: from --sensor, or pcd for *.pcd)");
   args.option("calib", 1, "KITTI calibration with P2 and Tr_velo_to_cam");
   args.option("image-size", 2, "output image size H W");
@@ -65,7 +67,8 @@ int run(int argc, char** argv) {
   std::string points_path = args.str("points"), calib_path = args.str("calib");
   std::string image_path = args.str("image");
   const std::string sensor = args.str("sensor", "radar");
-  if (sensor != "radar" && sensor != "lidar") throw mm::cli::UsageError("--sensor must be radar or lidar");
+  if (sensor != "radar" && sensor != "lidar")
+    throw mm::cli::UsageError("--sensor must be radar or lidar");
   if (args.has("vod-root")) {
     if (!args.has("frame")) throw mm::cli::UsageError("--vod-root needs --frame");
     const mm::io::VodFrame frame{args.str("vod-root"), mm::io::parseFrameNumber(args.str("frame"))};
@@ -104,7 +107,8 @@ int run(int argc, char** argv) {
   mm::DepthCompletionParams params = paramsFrom(args);
   const std::string frame_pose =
       args.has("vod-root")
-          ? mm::io::VodFrame{args.str("vod-root"), mm::io::parseFrameNumber(args.str("frame"))}.pose()
+          ? mm::io::VodFrame{args.str("vod-root"), mm::io::parseFrameNumber(args.str("frame"))}
+                .pose()
           : std::string();
   mm::cli::applyGroundPose(args, frame_pose, params);
   const mm::io::KittiCalib calib = mm::io::readKittiCalib(calib_path);
@@ -143,8 +147,9 @@ int run(int argc, char** argv) {
   json << "{\"model\": \"" << mm::toString(params.model) << "\", \"rows\": " << grid.rows()
        << ", \"cols\": " << grid.cols() << ", \"pixels\": " << s.pixels
        << ", \"predicted\": " << s.predicted << ", \"kept\": " << s.kept
-       << ", \"points_total\": " << s.points_total << ", \"points_non_finite\": "
-       << s.points_non_finite << ", \"points_in_view\": " << s.points_in_view
+       << ", \"points_total\": " << s.points_total
+       << ", \"points_non_finite\": " << s.points_non_finite
+       << ", \"points_in_view\": " << s.points_in_view
        << ", \"neighbour_sets\": " << s.neighbour_sets << ", \"shift\": " << s.shift
        << ", \"threads\": " << completer.threads() << ", \"compute_ms\": " << times.front();
   if (repeat > 1) {
@@ -159,4 +164,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) { return mm::cli::runTool("complete_depth", run, argc, argv); }
+int main(int argc, char** argv) {
+  return mm::cli::runTool("complete_depth", run, argc, argv);
+}

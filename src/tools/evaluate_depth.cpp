@@ -16,14 +16,15 @@
 
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
-#include "multimodal_nvs/core/depth_completion.hpp"
-#include "multimodal_nvs/core/depth_metrics.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/depth/retention.hpp"
+#include "multimodal_nvs/core/eval/depth_metrics.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
-#include "multimodal_nvs/core/retention.hpp"
 
 namespace mm = multimodal_nvs;
 

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "common/cli.hpp"
-#include "multimodal_nvs/core/synthetic_dataset.hpp"
+#include "multimodal_nvs/core/synthetic/dataset.hpp"
 
 namespace mm = multimodal_nvs;
 namespace syn = multimodal_nvs::synthetic;

@@ -16,18 +16,18 @@
 #include <sstream>
 
 #include "common/cli.hpp"
-#include "multimodal_nvs/core/backprojection.hpp"
-#include "multimodal_nvs/core/errors.hpp"
-#include "multimodal_nvs/core/gen3c_export.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/thread_pool.hpp"
+#include "multimodal_nvs/core/eval/image_metrics.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
 #include "multimodal_nvs/core/io/vod_pose.hpp"
-#include "multimodal_nvs/core/metrics.hpp"
-#include "multimodal_nvs/core/preview.hpp"
-#include "multimodal_nvs/core/splatting.hpp"
-#include "multimodal_nvs/core/thread_pool.hpp"
-#include "multimodal_nvs/core/trajectory.hpp"
+#include "multimodal_nvs/core/render/backprojection.hpp"
+#include "multimodal_nvs/core/render/gen3c_export.hpp"
+#include "multimodal_nvs/core/render/preview.hpp"
+#include "multimodal_nvs/core/render/splatting.hpp"
+#include "multimodal_nvs/core/render/trajectory.hpp"
 
 namespace mm = multimodal_nvs;
 
@@ -43,8 +43,9 @@ void declareOptions(mm::cli::Args& args) {
   args.option("frames", 1, "recorded frame range A-B under --vod-root, e.g. 8350-8365");
   args.option("poses", -1, "explicit VoD pose JSON files, first = reference view");
   args.option("pose-key", 1, "pose key in the JSON files", mm::io::defaultVodPoseKey());
-  args.option("preset", 1,
-              "forward|backward|left|right|up|down (m), orbit_left|orbit_right|zoom_in|zoom_out (deg)");
+  args.option(
+      "preset", 1,
+      "forward|backward|left|right|up|down (m), orbit_left|orbit_right|zoom_in|zoom_out (deg)");
   args.option("magnitude", 1, "preset extent at the last frame, metres or degrees");
   args.option("num-frames", 1, "frames to render", std::to_string(mm::kGen3cFrames));
   args.option("size", 2, "render size H W",
@@ -54,11 +55,12 @@ void declareOptions(mm::cli::Args& args) {
               "auto|yes|no: resample image+depth to the render size first (auto: yes for gen3c)",
               "auto");
   args.option("max-depth", 1, "clamp depth to this many metres (0: off)", "100");
-  args.option("edge-threshold", 1, "drop pixels with (max-min)/mean >= this in a 5x5 window (0: off)",
-              "0.05");
+  args.option("edge-threshold", 1,
+              "drop pixels with (max-min)/mean >= this in a 5x5 window (0: off)", "0.05");
   args.option("output", 1, "output directory");
   args.flag("gen3c", "also write OUTPUT/gen3c/ with the arrays the diffusion stage loads");
-  args.option("gt", -1, "ground-truth images of the recorded poses (default: VoD images of --frames)");
+  args.option("gt", -1,
+              "ground-truth images of the recorded poses (default: VoD images of --frames)");
   args.option("fps", 1, "preview video frame rate", "24");
   args.option("threads", 1, "worker threads (0: all cores)", "0");
 }
@@ -181,9 +183,9 @@ std::string metricsJson(const std::vector<FrameMetrics>& rows, const std::string
   }
   out << "  ],\n";
   for (int skip = 0; skip < 2; ++skip) {
-    out << "  \"" << (skip ? "mean_without_reference" : "mean") << "\": {\"psnr\": "
-        << jsonNumber(mean(&FrameMetrics::psnr, skip)) << ", \"ssim\": "
-        << jsonNumber(mean(&FrameMetrics::ssim, skip))
+    out << "  \"" << (skip ? "mean_without_reference" : "mean")
+        << "\": {\"psnr\": " << jsonNumber(mean(&FrameMetrics::psnr, skip))
+        << ", \"ssim\": " << jsonNumber(mean(&FrameMetrics::ssim, skip))
         << ", \"covered_psnr\": " << jsonNumber(mean(&FrameMetrics::covered_psnr, skip))
         << ", \"coverage\": " << jsonNumber(mean(&FrameMetrics::coverage, skip)) << "}"
         << (skip ? "\n" : ",\n");
@@ -208,7 +210,8 @@ std::string camerasJson(const mm::Trajectory& traj, const std::string& source) {
     out << "    {\"index\": " << i << ", \"w2c\": [";
     for (int r = 0; r < 4; ++r) {
       out << (r ? ", " : "") << "[";
-      for (int c = 0; c < 4; ++c) out << (c ? ", " : "") << cam.world_to_camera(r, c);
+      for (int c = 0; c < 4; ++c)
+        out << (c ? ", " : "") << cam.world_to_camera(r, c);
       out << "]";
     }
     const mm::PinholeIntrinsics& k = cam.intrinsics;
@@ -244,7 +247,8 @@ cv::VideoWriter openPreviewVideo(const std::string& output, double fps, cv::Size
   codec = "MJPG";
   if (writer.open(path, cv::VideoWriter::fourcc('M', 'J', 'P', 'G'), fps, size)) {
     std::cerr << "render_conditioning: note: no mp4 encoder in this OpenCV build; wrote the "
-                 "preview video as MJPG " << path << "\n";
+                 "preview video as MJPG "
+              << path << "\n";
     return writer;
   }
   std::cerr << "render_conditioning: warning: no video encoder available; no preview video\n";
@@ -260,13 +264,15 @@ int run(int argc, char** argv) {
   declareOptions(args);
   if (!args.parse(argc, argv)) return 0;
   for (const char* required : {"image", "depth", "output"}) {
-    if (!args.has(required)) throw mm::cli::UsageError(std::string("--") + required + " is required");
+    if (!args.has(required))
+      throw mm::cli::UsageError(std::string("--") + required + " is required");
   }
-  const int trajectory_sources =
-      int(args.has("frames") || args.has("vod-root")) + int(args.has("poses")) + int(args.has("preset"));
+  const int trajectory_sources = int(args.has("frames") || args.has("vod-root")) +
+                                 int(args.has("poses")) + int(args.has("preset"));
   if (trajectory_sources != 1) {
-    throw mm::cli::UsageError("give exactly one trajectory: --vod-root DIR --frames A-B, "
-                              "--poses FILES..., or --preset NAME --magnitude X");
+    throw mm::cli::UsageError(
+        "give exactly one trajectory: --vod-root DIR --frames A-B, "
+        "--poses FILES..., or --preset NAME --magnitude X");
   }
   if (args.has("preset") != args.has("magnitude")) {
     throw mm::cli::UsageError("--preset and --magnitude go together");
@@ -316,7 +322,8 @@ int run(int argc, char** argv) {
   if (stride > 1) {
     grid_image.create(depth.rows, depth.cols, CV_8UC3);
     for (int r = 0; r < depth.rows; ++r) {
-      for (int c = 0; c < depth.cols; ++c) grid_image.at<cv::Vec3b>(r, c) = image.at<cv::Vec3b>(r * stride, c * stride);
+      for (int c = 0; c < depth.cols; ++c)
+        grid_image.at<cv::Vec3b>(r, c) = image.at<cv::Vec3b>(r * stride, c * stride);
     }
     k_grid = {k_image.fx / stride, k_image.fy / stride, k_image.cx / stride, k_image.cy / stride};
   }
@@ -326,13 +333,15 @@ int run(int argc, char** argv) {
   if (resize != "auto" && resize != "yes" && resize != "no") {
     throw mm::cli::UsageError("--resize-depth must be auto, yes or no");
   }
-  prep.resize_to_render = resize == "yes" || (resize == "auto" && splat.mode == mm::SplatMode::kGen3c);
+  prep.resize_to_render =
+      resize == "yes" || (resize == "auto" && splat.mode == mm::SplatMode::kGen3c);
   prep.render_size = render_size;
   prep.max_depth = static_cast<float>(args.number("max-depth", 100.0));
   prep.edge_threshold = static_cast<float>(args.number("edge-threshold", 0.05));
   const auto t_cloud = std::chrono::steady_clock::now();
   const mm::ColoredCloud cloud = mm::buildColoredCloud(depth, valid, grid_image, k_grid, prep);
-  const double cloud_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_cloud).count();
+  const double cloud_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_cloud).count();
 
   // Trajectory.
   const mm::PinholeIntrinsics k_target =
@@ -352,7 +361,8 @@ int run(int argc, char** argv) {
     recorded = recordedInputFrom(args);
     const std::string key = args.str("pose-key", mm::io::defaultVodPoseKey());
     std::vector<Eigen::Matrix4d> poses;
-    for (const std::string& file : recorded.pose_files) poses.push_back(mm::io::readVodPose(file, key));
+    for (const std::string& file : recorded.pose_files)
+      poses.push_back(mm::io::readVodPose(file, key));
     trajectory = mm::recordedTrajectory(poses, num_frames, k_target, render_size);
     source = "recorded " + key + " (" + std::to_string(poses.size()) + " poses, first " +
              recorded.pose_files.front() + ")";
@@ -365,19 +375,21 @@ int run(int argc, char** argv) {
 
   // Outputs.
   const std::string output = args.str("output");
-  for (const char* sub : {"frames", "masks", "preview"}) mm::makeDirectories(output + "/" + sub);
+  for (const char* sub : {"frames", "masks", "preview"})
+    mm::makeDirectories(output + "/" + sub);
   writeText(output + "/cameras.json", camerasJson(trajectory, source));
   std::string video_path, video_codec;
-  cv::VideoWriter video = openPreviewVideo(output, args.number("fps", 24.0),
-                                           cv::Size(render_size.width, render_size.height),
-                                           video_path, video_codec);
+  cv::VideoWriter video =
+      openPreviewVideo(output, args.number("fps", 24.0),
+                       cv::Size(render_size.width, render_size.height), video_path, video_codec);
   std::unique_ptr<mm::Gen3cExportWriter> gen3c;
   if (args.has("gen3c")) {
     if (num_frames != mm::kGen3cFrames || render_size.height != mm::kGen3cHeight ||
         render_size.width != mm::kGen3cWidth) {
       std::cerr << "render_conditioning: warning: GEN3C expects 121 frames at 704x1280; the export "
-                   "uses the requested " << num_frames << " frames at " << render_size.height << "x"
-                << render_size.width << "\n";
+                   "uses the requested "
+                << num_frames << " frames at " << render_size.height << "x" << render_size.width
+                << "\n";
     }
     gen3c = std::make_unique<mm::Gen3cExportWriter>(output + "/gen3c", num_frames, render_size);
     mm::writeGen3cCompanions(output + "/gen3c", image, num_frames, render_size);
@@ -402,7 +414,8 @@ int run(int argc, char** argv) {
     const int count = std::min(chunk, num_frames - first);
     const auto t0 = std::chrono::steady_clock::now();
     splatter.render(cloud, trajectory, first, count, splat, frames);
-    render_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    render_ms +=
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::vector<cv::Mat> previews(static_cast<std::size_t>(count));
     std::vector<FrameMetrics> chunk_metrics(static_cast<std::size_t>(count));
     io_pool.parallelFor(count, [&](long long i, int) {
@@ -439,8 +452,10 @@ int run(int argc, char** argv) {
   }
   video.release();
   if (gen3c) gen3c->finish();
-  if (!metrics.empty()) writeText(output + "/metrics.json", metricsJson(metrics, mm::toString(splat.mode)));
-  const double total_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
+  if (!metrics.empty())
+    writeText(output + "/metrics.json", metricsJson(metrics, mm::toString(splat.mode)));
+  const double total_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
 
   const double mean_psnr = finiteMean(metrics, &FrameMetrics::psnr, false);
   const double mean_ssim = finiteMean(metrics, &FrameMetrics::ssim, false);
@@ -449,20 +464,21 @@ int run(int argc, char** argv) {
   std::ostringstream json;
   json << "{\"frames\": " << num_frames << ", \"size\": [" << render_size.height << ", "
        << render_size.width << "], \"splat\": \"" << mm::toString(splat.mode)
-       << "\", \"trajectory\": \"" << mm::cli::jsonEscape(source) << "\", \"points\": "
-       << cloud.size() << ", \"depth_stride\": " << stride << ", \"resized_to_render\": "
-       << (prep.resize_to_render ? "true" : "false") << ", \"threads\": " << splatter.threads()
-       << ", \"cloud_ms\": " << jsonNumber(cloud_ms) << ", \"render_ms\": " << jsonNumber(render_ms)
-       << ", \"total_ms\": " << jsonNumber(total_ms) << ", \"min_coverage\": "
-       << jsonNumber(min_coverage) << ", \"video\": "
+       << "\", \"trajectory\": \"" << mm::cli::jsonEscape(source)
+       << "\", \"points\": " << cloud.size() << ", \"depth_stride\": " << stride
+       << ", \"resized_to_render\": " << (prep.resize_to_render ? "true" : "false")
+       << ", \"threads\": " << splatter.threads() << ", \"cloud_ms\": " << jsonNumber(cloud_ms)
+       << ", \"render_ms\": " << jsonNumber(render_ms) << ", \"total_ms\": " << jsonNumber(total_ms)
+       << ", \"min_coverage\": " << jsonNumber(min_coverage) << ", \"video\": "
        << (video_path.empty() ? "null" : "\"" + mm::cli::jsonEscape(video_path) + "\"")
        << ", \"video_codec\": " << (video_codec.empty() ? "null" : "\"" + video_codec + "\"")
-       << ", \"gen3c\": " << (gen3c ? "\"" + mm::cli::jsonEscape(output + "/gen3c") + "\"" : "null");
+       << ", \"gen3c\": "
+       << (gen3c ? "\"" + mm::cli::jsonEscape(output + "/gen3c") + "\"" : "null");
   if (!metrics.empty()) {
-    json << ", \"metrics\": {\"gt_frames\": " << metrics.size() << ", \"psnr\": "
-         << jsonNumber(mean_psnr) << ", \"ssim\": " << jsonNumber(mean_ssim)
-         << ", \"covered_psnr\": " << jsonNumber(mean_cov_psnr) << ", \"coverage\": "
-         << jsonNumber(mean_cov) << "}";
+    json << ", \"metrics\": {\"gt_frames\": " << metrics.size()
+         << ", \"psnr\": " << jsonNumber(mean_psnr) << ", \"ssim\": " << jsonNumber(mean_ssim)
+         << ", \"covered_psnr\": " << jsonNumber(mean_cov_psnr)
+         << ", \"coverage\": " << jsonNumber(mean_cov) << "}";
   }
   json << ", \"output\": \"" << mm::cli::jsonEscape(output) << "\"}";
   std::cout << json.str() << std::endl;
@@ -471,4 +487,6 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) { return mm::cli::runTool("render_conditioning", run, argc, argv); }
+int main(int argc, char** argv) {
+  return mm::cli::runTool("render_conditioning", run, argc, argv);
+}

@@ -1,6 +1,6 @@
-// vod_to_bag: a View-of-Delft layout directory (REFERENCE.md §6, also what make_synthetic_scene
-// writes) as a ROS bag: camera image + camera_info, radar and LiDAR clouds, static extrinsics and
-// the camera trajectory on /tf.
+// vod_to_bag: a View-of-Delft layout directory (the View-of-Delft layout, also what
+// make_synthetic_scene writes) as a ROS bag: camera image + camera_info, radar and LiDAR clouds,
+// static extrinsics and the camera trajectory on /tf.
 //
 // Frames and time: the selected frames are sorted by number and stamped start_time + i / rate
 // (i = 0, 1, ...), whatever gaps there are in the numbering. Every message of a frame carries the
@@ -40,7 +40,7 @@
 #include <sstream>
 
 #include "common/cli.hpp"
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"

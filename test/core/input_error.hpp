@@ -2,7 +2,7 @@
 // The message of the InputError a reader throws, for tests of bad input.
 #include <string>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 namespace test {

@@ -3,13 +3,17 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "multimodal_nvs/core/camera.hpp"
+#include "multimodal_nvs/core/common/camera.hpp"
 
 namespace multimodal_nvs {
 namespace test {
 
-inline PinholeIntrinsics smallCamera() { return {100.0, 100.0, 80.0, 60.0}; }
-inline ImageSize smallImage() { return {120, 160}; }
+inline PinholeIntrinsics smallCamera() {
+  return {100.0, 100.0, 80.0, 60.0};
+}
+inline ImageSize smallImage() {
+  return {120, 160};
+}
 
 /// Camera-frame point on the ray of pixel (u, v) at camera depth z.
 inline Eigen::Vector3d pointOnPixelRay(const PinholeIntrinsics& k, double u, double v, double z) {
@@ -21,7 +25,8 @@ inline std::vector<Eigen::Vector3d> planePoints(const PinholeIntrinsics& k, cons
                                                 double depth, int step) {
   std::vector<Eigen::Vector3d> points;
   for (int v = step / 2; v < image.height; v += step) {
-    for (int u = step / 2; u < image.width; u += step) points.push_back(pointOnPixelRay(k, u, v, depth));
+    for (int u = step / 2; u < image.width; u += step)
+      points.push_back(pointOnPixelRay(k, u, v, depth));
   }
   return points;
 }

@@ -1,4 +1,4 @@
-// gtest-in-rostest, beyond issue 3's bad inputs (test_depth_bad_input): adversarial layouts and
+// gtest-in-rostest, beyond the malformed inputs of test_depth_bad_input: adversarial layouts and
 // values, huge but valid inputs, duplicated stamps, tf going back and a clock reset as when a bag
 // loops. The test owns simulated time (it publishes /clock), so it can move it backwards. For each
 // bad input the node must publish nothing for it, count it under its own reason in diagnostics and

@@ -1,6 +1,6 @@
-// gtest-in-rostest: every malformed input listed in issue 3, each in an otherwise good set with its
-// own stamp, then a good set. The node must publish nothing for the bad sets, count each under its
-// own reason in diagnostics, and publish the good set.
+// gtest-in-rostest: every malformed input the nodelet must reject, each in an otherwise good set
+// with its own stamp, then a good set. The node must publish nothing for the bad sets, count each
+// under its own reason in diagnostics, and publish the good set.
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <ros/ros.h>

@@ -7,7 +7,7 @@
 #include <cstring>
 #include <limits>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/ros/renderer_conversions.hpp"
 
 namespace mm = multimodal_nvs;

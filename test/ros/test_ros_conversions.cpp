@@ -7,7 +7,7 @@
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/ros/conversions.hpp"
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
 #include "multimodal_nvs/ros/input_timeline.hpp"

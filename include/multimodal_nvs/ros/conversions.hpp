@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
-#include "multimodal_nvs/core/angular_projection.hpp"
-#include "multimodal_nvs/core/camera.hpp"
-#include "multimodal_nvs/core/depth_completion.hpp"
+#include "multimodal_nvs/core/common/camera.hpp"
+#include "multimodal_nvs/core/common/stride_grid.hpp"
+#include "multimodal_nvs/core/depth/depth_completion.hpp"
 
 namespace multimodal_nvs {
 namespace ros_conversions {

@@ -3,7 +3,7 @@
 // filled from YAML through the parameter server) and the core's DepthCompletionParams.
 #include <multimodal_nvs/DepthCompletionConfig.h>
 
-#include "multimodal_nvs/core/depth_params.hpp"
+#include "multimodal_nvs/core/depth/depth_params.hpp"
 
 namespace multimodal_nvs {
 

@@ -11,10 +11,10 @@
 #include <opencv2/core.hpp>
 #include <string>
 
-#include "multimodal_nvs/core/backprojection.hpp"
-#include "multimodal_nvs/core/camera.hpp"
-#include "multimodal_nvs/core/splatting.hpp"
-#include "multimodal_nvs/core/trajectory.hpp"
+#include "multimodal_nvs/core/common/camera.hpp"
+#include "multimodal_nvs/core/render/backprojection.hpp"
+#include "multimodal_nvs/core/render/splatting.hpp"
+#include "multimodal_nvs/core/render/trajectory.hpp"
 #include "multimodal_nvs/ros/conversions.hpp"
 
 namespace multimodal_nvs {

@@ -7,7 +7,7 @@
 #include <iomanip>
 #include <sstream>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 namespace io {
@@ -78,7 +78,8 @@ SensorToCamera KittiCalib::sensorToCamera(const std::string& key) const {
   const auto& t = numbers(key, 12);
   SensorToCamera m;
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 4; ++c) m(r, c) = t[r * 4 + c];
+    for (int c = 0; c < 4; ++c)
+      m(r, c) = t[r * 4 + c];
   }
   return m;
 }
@@ -94,7 +95,8 @@ void writeKittiCalib(const std::string& path, const PinholeIntrinsics& k,
   }
   out << "R0_rect: 1.0 0.0 0.0 0.0 1.0 0.0 0.0 0.0 1.0\nTr_velo_to_cam:";
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 4; ++c) out << ' ' << sensor_to_camera(r, c);
+    for (int c = 0; c < 4; ++c)
+      out << ' ' << sensor_to_camera(r, c);
   }
   out << "\nTr_imu_to_velo:\n";
   if (!out) throw InputError(path + ": write failed");

@@ -6,7 +6,7 @@
 #include <limits>
 #include <sstream>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 namespace io {

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 namespace io {
@@ -15,8 +15,12 @@ std::string VodFrame::id() const {
   std::snprintf(buf, sizeof buf, "%05d", frame);
   return buf;
 }
-std::string VodFrame::image() const { return root + "/lidar/training/image_2/" + id() + ".jpg"; }
-std::string VodFrame::pose() const { return root + "/lidar/training/pose/" + id() + ".json"; }
+std::string VodFrame::image() const {
+  return root + "/lidar/training/image_2/" + id() + ".jpg";
+}
+std::string VodFrame::pose() const {
+  return root + "/lidar/training/pose/" + id() + ".json";
+}
 std::string VodFrame::points(const std::string& sensor) const {
   return root + "/" + sensor + "/training/velodyne/" + id() + ".bin";
 }

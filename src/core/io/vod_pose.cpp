@@ -7,7 +7,7 @@
 #include <sstream>
 #include <utility>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 namespace io {

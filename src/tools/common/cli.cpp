@@ -5,7 +5,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "multimodal_nvs/core/errors.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 namespace cli {
@@ -19,7 +19,9 @@ void Args::option(const std::string& name, int arity, const std::string& help,
   specs_[name] = {arity, help, fallback};
 }
 
-void Args::flag(const std::string& name, const std::string& help) { option(name, 0, help); }
+void Args::flag(const std::string& name, const std::string& help) {
+  option(name, 0, help);
+}
 
 bool Args::parse(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
@@ -40,8 +42,9 @@ bool Args::parse(int argc, char** argv) {
       ++i;
     }
     if ((arity > 0 && static_cast<int>(v.size()) != arity) || (arity < 0 && v.empty())) {
-      throw UsageError("--" + it->first + " expects " +
-                       (arity < 0 ? std::string("at least one value") : std::to_string(arity) + " value(s)"));
+      throw UsageError(
+          "--" + it->first + " expects " +
+          (arity < 0 ? std::string("at least one value") : std::to_string(arity) + " value(s)"));
     }
   }
   return true;

@@ -1,6 +1,6 @@
 #include "depth_options.hpp"
 
-#include "multimodal_nvs/core/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
 #include "multimodal_nvs/core/io/vod_pose.hpp"
 
@@ -23,10 +23,12 @@ void declareDepthModelOptions(Args& args) {
   args.option("threads", 1, "worker threads (0: all cores)", "0");
   args.option("max-neighbors", 1, "0: exact; K>0: tile approximation with at most K samples", "0");
   args.option("approx-tile", 1, "tile side (grid pixels) of the approximation", "16");
-  args.option("ground-pose", 1, "ground_gp: VoD pose file giving the camera's height and tilt "
+  args.option("ground-pose", 1,
+              "ground_gp: VoD pose file giving the camera's height and tilt "
               "(default with --vod-root: the frame's pose)");
   args.option("pose-key", 1, "key in the pose file", "odomToCamera");
-  args.option("camera-height", 1, "ground_gp: camera height above the ground without a pose", "1.3");
+  args.option("camera-height", 1, "ground_gp: camera height above the ground without a pose",
+              "1.3");
   args.option("far-depth", 1, "ground_gp: prior depth without any support (0: median depth)", "0");
   args.option("residual-amplitude", 1, "ground_gp: GP amplitude of the residual (0: no GP)", "1");
   args.option("surface-k", 1, "ground_gp: nearest samples per pixel for the surface prior", "8");

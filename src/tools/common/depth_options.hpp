@@ -4,7 +4,7 @@
 #include <string>
 
 #include "cli.hpp"
-#include "multimodal_nvs/core/depth_params.hpp"
+#include "multimodal_nvs/core/depth/depth_params.hpp"
 
 namespace multimodal_nvs {
 namespace cli {

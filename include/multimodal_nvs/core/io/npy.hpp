@@ -1,4 +1,5 @@
 #pragma once
+// numpy .npy arrays: reading (versions 1-3) and writing float32 / uint8.
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -1,4 +1,5 @@
 #pragma once
+// Raw point scans: KITTI / View-of-Delft float32 records and PCD files.
 #include <Eigen/Core>
 #include <string>
 #include <vector>

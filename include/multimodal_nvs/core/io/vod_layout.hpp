@@ -1,10 +1,11 @@
 #pragma once
+// The file paths of one frame in the View-of-Delft layout.
 #include <string>
 
 namespace multimodal_nvs {
 namespace io {
 
-/// Paths of one frame in the View-of-Delft layout (REFERENCE.md §6):
+/// Paths of one frame in the View-of-Delft layout (View-of-Delft's dataset layout):
 /// ROOT/{lidar,radar}/training/{image_2,velodyne,calib,pose}/NNNNN.{jpg,bin,txt,json}.
 struct VodFrame {
   std::string root;

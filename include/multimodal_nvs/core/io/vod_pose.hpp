@@ -1,4 +1,5 @@
 #pragma once
+// View-of-Delft pose files: one JSON object of 4x4 transforms per line.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
@@ -6,8 +7,10 @@
 namespace multimodal_nvs {
 namespace io {
 
-/// The pose key the reference implementation uses (REFERENCE.md §6).
-inline const char* defaultVodPoseKey() { return "mapToCamera"; }
+/// The pose key the reference implementation uses (View-of-Delft's dataset layout).
+inline const char* defaultVodPoseKey() {
+  return "mapToCamera";
+}
 
 /// Parses a View-of-Delft pose file: one JSON object per line, keys such as `odomToCamera`,
 /// `mapToCamera`, `UTMToCamera`, each a row-major 4x4 camera-to-world matrix (OpenCV camera axes).

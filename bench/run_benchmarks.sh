@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# `make bench`: every benchmark of the package, medians only. Usage: bench/run_benchmarks.sh [BUILD_DIR]
+#   1. each Google Benchmark binary built from bench/*.cpp, BENCH_REPETITIONS runs per case
+#      (default 5); prints one line per case with the median real and CPU time;
+#   2. the node latency harness (bench/ros/bench_depth_node.sh) at stride 1 and 2, which prints
+#      the median node latency, end-to-end latency and compute time of 150 sets at 15 Hz.
+# Cases on ../shared/data (MMNVS_DATA_DIR) report "data not found" instead of a time when the data
+# is missing; BENCH_NODE=0 skips the node harness.
+set -uo pipefail
+cd "$(dirname "$0")/.."
+BUILD_DIR=${1:-build}
+BIN=$BUILD_DIR/devel/lib/multimodal_nvs
+REPETITIONS=${BENCH_REPETITIONS:-5}
+export PATH=/usr/bin:/bin:$PATH
+OUT=$BUILD_DIR/bench
+mkdir -p "$OUT"
+status=0
+
+for source in bench/*.cpp; do
+  name=$(basename "$source" .cpp)
+  if [[ ! -x "$BIN/$name" ]]; then
+    echo "[bench] $name: not built (Debian's libbenchmark-dev missing?)" >&2
+    status=1
+    continue
+  fi
+  echo "[bench] $name: $REPETITIONS repetitions per case"
+  "$BIN/$name" --benchmark_repetitions="$REPETITIONS" --benchmark_report_aggregates_only=true \
+    --benchmark_out="$OUT/$name.json" --benchmark_out_format=json > "$OUT/$name.log" 2>&1 ||
+    { echo "[bench] $name FAILED (log: $OUT/$name.log)" >&2; status=1; continue; }
+  /usr/bin/python3 - "$OUT/$name.json" <<'PY'
+import json, sys
+report = json.load(open(sys.argv[1]))
+for b in report["benchmarks"]:
+    if b.get("error_occurred"):
+        print("  %-48s %s" % (b["run_name"], b.get("error_message", "error")))
+    elif b.get("aggregate_name") == "median":
+        print("  %-48s median %9.2f %s real, %9.2f %s CPU" % (
+            b["run_name"], b["real_time"], b["time_unit"], b["cpu_time"], b["time_unit"]))
+PY
+done
+
+if [[ "${BENCH_NODE:-1}" != 0 ]]; then
+  echo "[bench] bench_depth_node: the standalone node fed VoD 08350 at 15 Hz, stride 1 and 2"
+  bench/ros/bench_depth_node.sh "$BUILD_DIR" 1 2 || { echo "[bench] bench_depth_node FAILED" >&2; status=1; }
+fi
+exit $status

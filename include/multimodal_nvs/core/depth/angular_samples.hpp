@@ -1,0 +1,40 @@
+#pragma once
+// Range returns in the camera's angular domain (azimuth, elevation, camera-z depth): the domain in
+// which the local GP of the paper measures distances.
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+#include "multimodal_nvs/core/common/camera.hpp"
+
+namespace multimodal_nvs {
+
+/// A range sample expressed in the angular domain of the camera (degrees, elevation positive up)
+/// with its camera-z depth. Angles are float32 because the reference stores them that way and the
+/// neighbourhood test must see the very same values.
+struct AngularSample {
+  float azimuth_deg;
+  float elevation_deg;
+  float depth;
+};
+
+/// Camera-frame points -> angular samples: az = atan2(x, z), el = atan2(-y, hypot(x, z)), computed
+/// in double and rounded to float32 (the reference's convention). Non-finite points are skipped and
+/// counted in `dropped_non_finite` when it is not null.
+std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& points_camera,
+                                            std::size_t* dropped_non_finite = nullptr);
+
+/// Transforms sensor-frame points into the camera frame (double precision, like the reference).
+std::vector<Eigen::Vector3d> transformToCamera(const std::vector<Eigen::Vector3f>& points_sensor,
+                                               const SensorToCamera& sensor_to_camera);
+
+/// Samples with finite angles and a finite depth > 0, in their original order.
+std::vector<AngularSample> usableSamples(const std::vector<AngularSample>& samples);
+
+/// Continuous full-image pixel position (u, v) of the direction (az, el) in degrees — the inverse
+/// of the pixel-angle convention: u = cx + fx tan(az), v = cy - fy tan(el) / cos(az). Returns false
+/// for directions at or beyond 90 deg from the optical axis.
+bool angularToPixel(const PinholeIntrinsics& k, double azimuth_deg, double elevation_deg, double* u,
+                    double* v);
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,88 @@
+#pragma once
+// Every parameter of depth completion, with the reference's defaults and their validation.
+#include <limits>
+#include <string>
+
+#include "multimodal_nvs/core/depth/gp/local_gp.hpp"
+
+namespace multimodal_nvs {
+
+enum class DepthModel {
+  kLocalGpMle,  ///< reference default: local GP, marginal-likelihood length scale per set
+  kKernel,      ///< reference fast mode: Gaussian kernel regression within the radius
+  kGroundGp,    ///< beyond the paper: local GP on the residual around a ground-plane prior
+  // Baselines (baselines.hpp), each with a documented variance:
+  kNearest,   ///< depth of the angularly nearest sample, no radius limit
+  kLinear,    ///< Delaunay triangulation in the angular domain, barycentric interpolation
+  kIpBasic,   ///< morphological fill of the projected sparse depth (Ku et al. 2018), for LiDAR
+  kConstant,  ///< the median depth everywhere
+};
+
+const char* toString(DepthModel model);
+/// Throws InputError for an unknown name.
+DepthModel parseDepthModel(const std::string& name);
+
+/// How the targets are centred before regression: y = z - shift. Reference default: median of all
+/// finite positive depths of the loaded points (also those outside the image).
+struct DepthShift {
+  enum class Mode { kMedian, kMean, kNone, kValue };
+  Mode mode = Mode::kMedian;
+  double value = 0.0;
+
+  /// Accepts auto|median|mean|none|off|0|<number>; throws InputError otherwise.
+  static DepthShift parse(const std::string& spec);
+  std::string toString() const;
+};
+
+/// The road-aware prior of the `ground_gp` model: the ground plane below the horizon, a far depth
+/// above it. Without a pose the camera is taken as level at `camera_height`.
+struct GroundPriorParams {
+  double camera_height = 1.3;                  ///< metres
+  double up_x = 0.0, up_y = -1.0, up_z = 0.0;  ///< world up in the camera frame
+  double far_depth = 0.0;           ///< prior where neither ground nor samples say more; 0: median
+  int surface_k = 8;                ///< nearest-surface prior: samples considered per pixel
+  int surface_rank = 2;             ///< ... and which smallest depth among them (1 = minimum)
+  int surface_step_px = 16;         ///< lattice step (image pixels) of the nearest-surface prior
+  double residual_amplitude = 1.0;  ///< GP amplitude of the residual (metres); 0: no GP
+  double relative_sigma = 0.25;     ///< prior std as a fraction of its depth, at a sample ...
+  double relative_sigma_per_deg = 0.10;  ///< ... growing with the angular distance to it
+  /// Sparse (radar) or dense (LiDAR) input; auto: dense when the mean angular spacing of the
+  /// samples in view is at most half the neighbourhood radius (ground_gp_model.cpp).
+  enum class Input { kAuto, kSparse, kDense };
+  Input input = Input::kAuto;
+  /// Dense mode: two returns belong to one surface when their depths differ by at most this
+  /// fraction (or both are ground returns); otherwise the edge between them is an occlusion edge.
+  double dense_edge_ratio = 0.1;
+  double dense_relative_sigma = 0.03;  ///< dense mode: prior std / depth inside a surface
+};
+
+const char* toString(GroundPriorParams::Input input);
+/// auto|sparse|dense; throws InputError otherwise.
+GroundPriorParams::Input parseGroundInput(const std::string& name);
+
+/// Every parameter of depth completion, with the reference's defaults. The CLI flags, the YAML
+/// files and dynamic_reconfigure all map onto this one struct.
+struct DepthCompletionParams {
+  DepthModel model = DepthModel::kLocalGpMle;
+  double radius_deg = 2.0;
+  LocalGpParams gp;
+  GroundPriorParams ground;
+  double kernel_length_scale_deg = 0.75;
+  DepthShift shift;
+  /// Keep this percentage of *all* grid pixels, those with the lowest variance (ties: row-major
+  /// order). 100 keeps every prediction (the reference's behaviour).
+  double retain_percent = 100.0;
+  /// Predictions with a larger variance are not valid (reference: --var-threshold, default inf).
+  double var_threshold = std::numeric_limits<double>::infinity();
+  /// 0: exact (every sample within the radius). K > 0: the documented tile approximation for dense
+  /// input: each tile of approx_tile x approx_tile grid pixels shares one set of at most K samples
+  /// (the K nearest to the tile centre) and one length scale.
+  int max_neighbors = 0;
+  int approx_tile = 16;
+  int threads = 0;  ///< 0: hardware concurrency
+
+  /// Throws InputError naming the first bad parameter.
+  void validate() const;
+};
+
+}  // namespace multimodal_nvs

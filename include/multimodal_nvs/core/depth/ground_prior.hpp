@@ -1,0 +1,86 @@
+#pragma once
+// The priors of ground_gp: the ground plane and the nearest surface seen along each pixel ray.
+#include <Eigen/Core>
+#include <cmath>
+#include <vector>
+
+#include "multimodal_nvs/core/common/thread_pool.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+
+namespace multimodal_nvs {
+
+/// The ground as seen from the camera: the plane {X : up . X = -height} in the camera optical
+/// frame, with `up` the unit world-up direction expressed in camera coordinates.
+struct GroundPlane {
+  Eigen::Vector3d up{0.0, -1.0, 0.0};  ///< level camera: world up is camera -y
+  double height = 1.3;                 ///< camera height above the ground, metres
+
+  /// From a camera-to-world pose whose world z axis points up and whose z = 0 is the ground
+  /// (VoD's odomToCamera/mapToCamera poses).
+  static GroundPlane fromCameraToWorld(const Eigen::Matrix4d& camera_to_world);
+
+  /// Camera-z depth where the ray through normalised image point (x, y) = (X/Z, Y/Z) meets the
+  /// ground, or +inf when the ray does not descend.
+  double depthAlong(double x, double y) const {
+    const double descent = up.x() * x + up.y() * y + up.z();
+    return descent < 0.0 ? -height / descent : INFINITY;
+  }
+};
+
+/// Normalised image coordinates (X/Z, Y/Z) of an angular direction (az, el in degrees).
+Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg);
+
+/// The prior depth of every grid pixel: ground depth below the horizon, capped at `far_depth`
+/// (also above the horizon, where there is no ground).
+std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
+                                    double far_depth);
+
+/// The nearest-surface depth of every grid pixel: the `rank`-th smallest depth (1 = smallest)
+/// among the `k` samples angularly nearest to the pixel, and the angular distance (degrees) to
+/// the nearest sample. A far return behind a near one (radar multipath, returns through
+/// vegetation) does not pull this estimate, unlike a mean. Evaluated on a lattice every `step`
+/// grid pixels and interpolated bilinearly in between. Empty samples: +inf depth.
+/// With `support`, distance_deg is the distance to the nearest of those samples instead (same
+/// lattice pass: ground_gp needs the surface of the object returns and the distance to any return).
+struct NearestSurface {
+  std::vector<float> depth;
+  std::vector<float> distance_deg;
+};
+NearestSurface nearestSurfaceDepth(const std::vector<AngularSample>& samples,
+                                   const PixelAngleGrid& angles, int k, int rank, int step,
+                                   ThreadPool& pool,
+                                   const std::vector<AngularSample>* support = nullptr);
+
+/// nearestSurfaceDepth before its interpolation between lattice rows: the lattice rows
+/// interpolated along every grid column. A caller with its own full-image pass (ground_gp's sparse
+/// mode) finishes the interpolation there, instead of writing and re-reading two full-resolution
+/// arrays. Same arithmetic, so the same values as nearestSurfaceDepth.
+struct NearestSurfaceRows {
+  int cols = 0, step = 1;
+  bool has_depth = false;      ///< false without samples: depth() is +inf everywhere
+  std::vector<int> node_rows;  ///< grid rows of the lattice (every step-th and the last)
+  std::vector<float> depth_rows, distance_rows;  ///< node_rows.size() x cols
+
+  /// Where grid row r lies: between lattice rows `lower` and `lower + 1` (clamped) at weight t.
+  struct RowWeights {
+    const float* depth_lo;
+    const float* depth_hi;
+    const float* distance_lo;
+    const float* distance_hi;
+    float t;
+  };
+  RowWeights row(int r) const;
+  static float lerp(float lo, float hi, float t) { return (1 - t) * lo + t * hi; }
+  float depth(int r, int c) const {
+    if (!has_depth) return INFINITY;
+    const RowWeights w = row(r);
+    return lerp(w.depth_lo[c], w.depth_hi[c], w.t);
+  }
+};
+NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
+                                      const PixelAngleGrid& angles, int k, int rank, int step,
+                                      ThreadPool& pool,
+                                      const std::vector<AngularSample>* support = nullptr);
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,32 @@
+#pragma once
+// `ground_gp`: the local GP on the residual around a ground-plane and nearest-surface prior.
+#include <vector>
+#include "multimodal_nvs/core/common/thread_pool.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
+#include "multimodal_nvs/core/depth/neighbour_sets.hpp"
+#include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+
+namespace multimodal_nvs {
+
+struct GroundPlane;
+/// `ground_gp`: local GP on the residual around the ground-plane prior (ground_gp_model.cpp).
+void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                     const NeighbourSets& sets, const DepthCompletionParams& params,
+                     const GroundPlane& plane, double median_depth, ThreadPool& pool,
+                     PixelPredictions& out);
+
+/// `ground_gp` on dense input (ground_gp_model.cpp): the prior is the edge-aware interpolation of
+/// inverse depth on the Delaunay triangulation of the samples; no residual GP (the prior already
+/// passes through every sample, so the GP's posterior mean would equal it).
+void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                          const DepthCompletionParams& params, const GroundPlane& plane,
+                          double median_depth, ThreadPool& pool, PixelPredictions& out);
+
+/// Whether `ground_gp` runs its dense-input mode: params.ground.input, or for auto whether the mean
+/// angular spacing sqrt(view area / samples in view) is at most half of params.radius_deg.
+bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                        const DepthCompletionParams& params);
+
+}  // namespace multimodal_nvs

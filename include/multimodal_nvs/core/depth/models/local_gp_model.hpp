@@ -1,0 +1,36 @@
+#pragma once
+// `local_gp_mle`: the exact localized GP of the paper (reference parity), per neighbour set.
+#include <vector>
+#include "multimodal_nvs/core/common/thread_pool.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
+#include "multimodal_nvs/core/depth/neighbour_sets.hpp"
+#include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+
+namespace multimodal_nvs {
+
+/// The GP's prior mean: a constant (the reference's shift). A per-pixel prior (ground_gp) is added
+/// by the caller in its own final pass over the image, which saves copying it into the output.
+struct PriorMean {
+  double constant = 0.0;
+};
+
+/// Exact local GP with marginal-likelihood length scale (reference `local_gp_mle`). Pixels without
+/// a neighbour, or whose final Cholesky fails, get mean = shift and variance = a^2.
+void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                    const NeighbourSets& sets, const DepthCompletionParams& params, double shift,
+                    ThreadPool& pool, PixelPredictions& out);
+
+/// The same GP on explicit targets (sample depth minus the prior at the sample) around a prior
+/// mean: mean = prior + k*^T K^-1 y. With a constant prior c and targets z - c it is the model
+/// above.
+void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
+                    const PixelAngleGrid& angles, const NeighbourSets& sets,
+                    const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
+                    PixelPredictions& out);
+
+/// Targets y = float32(z) - float32(shift) in float32, promoted to double (reference arithmetic).
+std::vector<double> shiftedTargets(const std::vector<AngularSample>& samples, double shift);
+
+}  // namespace multimodal_nvs

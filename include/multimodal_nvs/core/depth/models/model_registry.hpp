@@ -1,0 +1,23 @@
+#pragma once
+// The one place that maps a DepthModel to its implementation. Adding a model: a file pair in this
+// folder, an entry in DepthModel (depth_params.hpp) and a case in predictWithModel.
+#include <vector>
+#include "multimodal_nvs/core/common/thread_pool.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
+#include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+
+namespace multimodal_nvs {
+
+/// True for nearest, linear, ipbasic and constant (the models that need no neighbour sets).
+bool isBaseline(DepthModel model);
+
+/// Runs `params.model` on the samples into `out`. `shift` is the targets' centre (computeShift of
+/// params.shift). Returns the number of neighbour sets (or tiles) the model solved, 0 for models
+/// without any.
+int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                     const DepthCompletionParams& params, double shift, ThreadPool& pool,
+                     PixelPredictions& out);
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,79 @@
+#include "multimodal_nvs/core/common/colormap.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+namespace multimodal_nvs {
+
+cv::Mat colorizeWithScaleBar(const cv::Mat& values, const cv::Mat& valid, double vmin, double vmax,
+                             const std::string& label, int colormap) {
+  CV_Assert(values.type() == CV_32FC1);
+  cv::Mat shown(values.size(), CV_8UC1, cv::Scalar(0));
+  for (int r = 0; r < values.rows; ++r) {
+    for (int c = 0; c < values.cols; ++c) {
+      const float v = values.at<float>(r, c);
+      shown.at<uint8_t>(r, c) = std::isfinite(v) && (valid.empty() || valid.at<uint8_t>(r, c));
+    }
+  }
+  if (!(vmin < vmax)) {
+    std::vector<float> samples;
+    for (int r = 0; r < values.rows; ++r) {
+      for (int c = 0; c < values.cols; ++c) {
+        if (shown.at<uint8_t>(r, c)) samples.push_back(values.at<float>(r, c));
+      }
+    }
+    if (samples.empty()) {
+      vmin = 0.0;
+      vmax = 1.0;
+    } else {
+      auto at = [&](double q) {
+        auto it = samples.begin() + static_cast<long>(q * (samples.size() - 1));
+        std::nth_element(samples.begin(), it, samples.end());
+        return static_cast<double>(*it);
+      };
+      vmin = at(0.02);
+      vmax = at(0.98);
+      if (!(vmax > vmin)) vmax = vmin + 1.0;
+    }
+  }
+  cv::Mat scaled;
+  values.convertTo(scaled, CV_8UC1, 255.0 / (vmax - vmin), -vmin * 255.0 / (vmax - vmin));
+  cv::Mat colored;
+  cv::applyColorMap(scaled, colored, colormap);
+  colored.setTo(cv::Scalar(40, 40, 40), shown == 0);
+
+  // Scale bar: a vertical gradient with tick labels, height of the image, on a white margin.
+  const int bar_width = std::max(20, values.cols / 40);
+  const int margin = bar_width * 4 + 40;
+  cv::Mat canvas(values.rows, values.cols + margin, CV_8UC3, cv::Scalar(255, 255, 255));
+  colored.copyTo(canvas(cv::Rect(0, 0, values.cols, values.rows)));
+  const int top = std::max(20, values.rows / 20), bottom = values.rows - top;
+  cv::Mat gradient(bottom - top, 1, CV_8UC1);
+  for (int i = 0; i < gradient.rows; ++i) {
+    gradient.at<uint8_t>(i) = static_cast<uint8_t>(255 - 255 * i / std::max(1, gradient.rows - 1));
+  }
+  cv::Mat gradient_colored;
+  cv::applyColorMap(gradient, gradient_colored, colormap);
+  cv::resize(gradient_colored, gradient_colored, cv::Size(bar_width, gradient.rows), 0, 0,
+             cv::INTER_NEAREST);
+  const int x0 = values.cols + 10;
+  gradient_colored.copyTo(canvas(cv::Rect(x0, top, bar_width, gradient.rows)));
+  const double font = std::max(0.35, values.rows / 900.0);
+  for (int t = 0; t <= 4; ++t) {
+    const double v = vmax - (vmax - vmin) * t / 4.0;
+    const int y = top + (bottom - top - 1) * t / 4;
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", v);
+    cv::line(canvas, {x0 + bar_width, y}, {x0 + bar_width + 5, y}, cv::Scalar(0, 0, 0), 1);
+    cv::putText(canvas, text, {x0 + bar_width + 8, y + 5}, cv::FONT_HERSHEY_SIMPLEX, font,
+                cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  }
+  cv::putText(canvas, label, {x0, std::max(12, top - 6)}, cv::FONT_HERSHEY_SIMPLEX, font,
+              cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  return canvas;
+}
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,63 @@
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace multimodal_nvs {
+namespace {
+// numpy's degrees(): x * (180/pi) with the constant formed in the operand's precision.
+constexpr double kRadToDeg64 = 180.0 / 3.14159265358979323846;
+}  // namespace
+
+std::vector<Eigen::Vector3d> transformToCamera(const std::vector<Eigen::Vector3f>& points_sensor,
+                                               const SensorToCamera& sensor_to_camera) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(points_sensor.size());
+  const Eigen::Matrix3d rotation = sensor_to_camera.leftCols<3>();
+  const Eigen::Vector3d translation = sensor_to_camera.col(3);
+  for (const auto& p : points_sensor)
+    out.emplace_back(rotation * p.cast<double>() + translation);
+  return out;
+}
+
+std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& points_camera,
+                                            std::size_t* dropped_non_finite) {
+  std::vector<AngularSample> out;
+  out.reserve(points_camera.size());
+  std::size_t dropped = 0;
+  for (const auto& p : points_camera) {
+    if (!p.allFinite()) {
+      ++dropped;
+      continue;
+    }
+    const double az = std::atan2(p.x(), p.z()) * kRadToDeg64;
+    const double el = std::atan2(-p.y(), std::sqrt(p.x() * p.x() + p.z() * p.z())) * kRadToDeg64;
+    out.push_back({static_cast<float>(az), static_cast<float>(el), static_cast<float>(p.z())});
+  }
+  if (dropped_non_finite != nullptr) *dropped_non_finite = dropped;
+  return out;
+}
+
+std::vector<AngularSample> usableSamples(const std::vector<AngularSample>& samples) {
+  std::vector<AngularSample> out;
+  out.reserve(samples.size());
+  for (const AngularSample& s : samples) {
+    if (std::isfinite(s.azimuth_deg) && std::isfinite(s.elevation_deg) && std::isfinite(s.depth) &&
+        s.depth > 0.0f) {
+      out.push_back(s);
+    }
+  }
+  return out;
+}
+
+bool angularToPixel(const PinholeIntrinsics& k, double azimuth_deg, double elevation_deg, double* u,
+                    double* v) {
+  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+  if (!(std::abs(azimuth_deg) < 90.0) || !(std::abs(elevation_deg) < 90.0)) return false;
+  const double az = azimuth_deg * kDegToRad, el = elevation_deg * kDegToRad;
+  *u = k.cx + k.fx * std::tan(az);
+  *v = k.cy - k.fy * std::tan(el) / std::cos(az);
+  return true;
+}
+
+}  // namespace multimodal_nvs

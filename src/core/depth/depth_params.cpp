@@ -1,0 +1,127 @@
+#include "multimodal_nvs/core/depth/depth_params.hpp"
+
+#include <cmath>
+#include <cstdlib>
+
+#include "multimodal_nvs/core/common/errors.hpp"
+
+namespace multimodal_nvs {
+
+const char* toString(DepthModel model) {
+  switch (model) {
+    case DepthModel::kLocalGpMle:
+      return "local_gp_mle";
+    case DepthModel::kKernel:
+      return "kernel";
+    case DepthModel::kGroundGp:
+      return "ground_gp";
+    case DepthModel::kNearest:
+      return "nearest";
+    case DepthModel::kLinear:
+      return "linear";
+    case DepthModel::kIpBasic:
+      return "ipbasic";
+    case DepthModel::kConstant:
+      return "constant";
+  }
+  return "unknown";
+}
+
+DepthModel parseDepthModel(const std::string& name) {
+  if (name == "local_gp_mle") return DepthModel::kLocalGpMle;
+  if (name == "kernel") return DepthModel::kKernel;
+  if (name == "ground_gp") return DepthModel::kGroundGp;
+  if (name == "nearest") return DepthModel::kNearest;
+  if (name == "linear") return DepthModel::kLinear;
+  if (name == "ipbasic") return DepthModel::kIpBasic;
+  if (name == "constant") return DepthModel::kConstant;
+  throw InputError("unknown depth model '" + name +
+                   "' (expected local_gp_mle, kernel, ground_gp, nearest, linear, ipbasic or "
+                   "constant)");
+}
+
+const char* toString(GroundPriorParams::Input input) {
+  switch (input) {
+    case GroundPriorParams::Input::kAuto:
+      return "auto";
+    case GroundPriorParams::Input::kSparse:
+      return "sparse";
+    case GroundPriorParams::Input::kDense:
+      return "dense";
+  }
+  return "unknown";
+}
+
+GroundPriorParams::Input parseGroundInput(const std::string& name) {
+  if (name == "auto") return GroundPriorParams::Input::kAuto;
+  if (name == "sparse") return GroundPriorParams::Input::kSparse;
+  if (name == "dense") return GroundPriorParams::Input::kDense;
+  throw InputError("unknown ground_gp input '" + name + "' (expected auto, sparse or dense)");
+}
+
+DepthShift DepthShift::parse(const std::string& spec) {
+  DepthShift s;
+  if (spec == "auto" || spec == "median") return s;
+  if (spec == "mean") {
+    s.mode = Mode::kMean;
+    return s;
+  }
+  if (spec == "none" || spec == "off" || spec == "0") {
+    s.mode = Mode::kNone;
+    return s;
+  }
+  char* end = nullptr;
+  const double v = std::strtod(spec.c_str(), &end);
+  if (spec.empty() || end != spec.c_str() + spec.size() || !std::isfinite(v)) {
+    throw InputError("shift '" + spec + "' is not auto, median, mean, none or a finite number");
+  }
+  s.mode = Mode::kValue;
+  s.value = v;
+  return s;
+}
+
+std::string DepthShift::toString() const {
+  switch (mode) {
+    case Mode::kMedian:
+      return "median";
+    case Mode::kMean:
+      return "mean";
+    case Mode::kNone:
+      return "none";
+    case Mode::kValue:
+      return std::to_string(value);
+  }
+  return "median";
+}
+
+void DepthCompletionParams::validate() const {
+  auto fail = [](const std::string& what) { throw InputError("parameter " + what); };
+  if (!(radius_deg > 0.0) || !std::isfinite(radius_deg)) fail("radius_deg must be > 0");
+  if (model == DepthModel::kLocalGpMle) gp.validate();
+  if (!(kernel_length_scale_deg > 0.0)) fail("kernel_length_scale_deg must be > 0");
+  if (!(retain_percent >= 0.0 && retain_percent <= 100.0))
+    fail("retain_percent must be in [0, 100]");
+  if (std::isnan(var_threshold)) fail("var_threshold must not be NaN");
+  if (max_neighbors < 0) fail("max_neighbors must be >= 0");
+  if (model == DepthModel::kGroundGp) {
+    if (ground.residual_amplitude > 0.0) gp.validate();
+    if (!(ground.camera_height > 0.0)) fail("ground camera_height must be > 0");
+    if (!(std::abs(ground.up_x) + std::abs(ground.up_y) + std::abs(ground.up_z) > 0.0)) {
+      fail("ground up direction must not be zero");
+    }
+    if (ground.surface_k < 1 || ground.surface_rank < 1 || ground.surface_rank > ground.surface_k) {
+      fail("ground surface_k >= 1 and 1 <= surface_rank <= surface_k");
+    }
+    if (ground.surface_step_px < 1) fail("ground surface_step_px must be >= 1");
+    if (!(ground.dense_edge_ratio > 0.0) || !(ground.dense_relative_sigma >= 0.0)) {
+      fail("ground dense_edge_ratio must be > 0 and dense_relative_sigma >= 0");
+    }
+    if (!(ground.residual_amplitude >= 0.0) || !(ground.relative_sigma >= 0.0) ||
+        !(ground.relative_sigma_per_deg >= 0.0) || !(ground.far_depth >= 0.0)) {
+      fail("ground residual_amplitude, relative sigmas and far_depth must be >= 0");
+    }
+  }
+  if (approx_tile < 1) fail("approx_tile must be >= 1");
+}
+
+}  // namespace multimodal_nvs

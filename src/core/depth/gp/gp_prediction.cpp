@@ -1,0 +1,110 @@
+// The per-pixel step of the local GP, kept in its own file because it is compiled with FMA
+// contraction allowed (cmake/core.cmake): unlike the angle grid and the length-scale search it
+// needs no bit-level agreement with the reference, and it is the hottest loop of the package.
+#include <Eigen/Core>
+#include <algorithm>
+#include <vector>
+
+#include "multimodal_nvs/core/depth/gp/local_gp.hpp"
+
+namespace multimodal_nvs {
+namespace {
+constexpr int kMaxStackPixels = 64;
+}  // namespace
+
+namespace {
+
+// kSize > 0 fixes the set size at compile time (radar sets are tiny: the loops unroll); 0 is the
+// general case. Same arithmetic either way.
+template <int kSize>
+void predictBlocks(const double* packed_factor, const double* beta, const float* azimuth,
+                   const float* elevation, int n, double length_scale, const LocalGpParams& params,
+                   const float* pixel_az, const float* pixel_el, int pixels, double shift,
+                   float* mean_out, float* var_out) {
+  if (kSize > 0) n = kSize;
+  const double a2 = params.amplitude * params.amplitude;
+  const double prior = a2 + params.noise * params.noise;
+  const double scale = -0.5 / (length_scale * length_scale);
+  // Pixels are processed in blocks with the block index innermost, so the exponentials and the
+  // forward substitution vectorise across pixels. w is row-major n x block.
+  // 8 spare doubles so that the exponentials run over whole SIMD packets (no scalar tail).
+  thread_local SimdVector<double> w;
+  w.resize(std::size_t(n) * kMaxStackPixels + 8, 0.0);
+  for (int p0 = 0; p0 < pixels; p0 += kMaxStackPixels) {
+    const int m = std::min(kMaxStackPixels, pixels - p0);
+    double paz[kMaxStackPixels], pel[kMaxStackPixels];
+    for (int p = 0; p < m; ++p) {
+      paz[p] = pixel_az[p0 + p];
+      pel[p] = pixel_el[p0 + p];
+    }
+    for (int i = 0; i < n; ++i) {
+      double* wi = w.data() + std::size_t(i) * m;
+      const double az = azimuth[i];
+      const double el = elevation[i];
+      for (int p = 0; p < m; ++p) {
+        const double da = az - paz[p];
+        const double de = el - pel[p];
+        wi[p] = (da * da + de * de) * scale;
+      }
+    }
+    Eigen::Map<Eigen::ArrayXd> block(w.data(), (std::size_t(n) * m + 7) & ~std::size_t(7));
+    block = block.exp() * a2;
+    // Segments average about 15 pixels: clear only the m accumulators in use.
+    double mean[kMaxStackPixels], norm2[kMaxStackPixels];
+    std::fill_n(mean, m, 0.0);
+    std::fill_n(norm2, m, 0.0);
+    const double* row = packed_factor;
+    for (int i = 0; i < n; ++i) {
+      double* wi = w.data() + std::size_t(i) * m;
+      for (int j = 0; j < i; ++j) {
+        const double lij = row[j];
+        const double* wj = w.data() + std::size_t(j) * m;
+        for (int p = 0; p < m; ++p)
+          wi[p] -= lij * wj[p];
+      }
+      const double inv_diag = 1.0 / row[i];
+      const double bi = beta[i];
+      for (int p = 0; p < m; ++p) {
+        wi[p] *= inv_diag;
+        mean[p] += wi[p] * bi;
+        norm2[p] += wi[p] * wi[p];
+      }
+      row += i + 1;
+    }
+    for (int p = 0; p < m; ++p) {
+      mean_out[p0 + p] = static_cast<float>(mean[p] + shift);
+      const double var = prior - norm2[p];
+      var_out[p0 + p] = static_cast<float>(var < 0.0 ? 0.0 : var);
+    }
+  }
+}
+
+}  // namespace
+
+void predictFromFactor(const double* packed_factor, const double* beta, const float* azimuth,
+                       const float* elevation, int n, double length_scale,
+                       const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
+                       int pixels, double shift, float* mean_out, float* var_out) {
+#define MMNVS_PREDICT(size)                                                                       \
+  predictBlocks<size>(packed_factor, beta, azimuth, elevation, n, length_scale, params, pixel_az, \
+                      pixel_el, pixels, shift, mean_out, var_out)
+  switch (n) {
+    case 1:
+      return MMNVS_PREDICT(1);
+    case 2:
+      return MMNVS_PREDICT(2);
+    case 3:
+      return MMNVS_PREDICT(3);
+    case 4:
+      return MMNVS_PREDICT(4);
+    case 5:
+      return MMNVS_PREDICT(5);
+    case 6:
+      return MMNVS_PREDICT(6);
+    default:
+      return MMNVS_PREDICT(0);
+  }
+#undef MMNVS_PREDICT
+}
+
+}  // namespace multimodal_nvs

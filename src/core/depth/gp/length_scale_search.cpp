@@ -1,0 +1,182 @@
+#include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
+
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+
+namespace multimodal_nvs {
+namespace {
+constexpr int L = LengthScaleSearch::kLanes;
+constexpr double kLog2Pi = 1.8378770664093454835606594728112;
+}  // namespace
+
+void LengthScaleSearch::load(int n, int lanes, const float* const* az, const float* const* el,
+                             const double* const* y) {
+  n_ = n;
+  const std::size_t packed = std::size_t(n) * (n + 1) / 2;
+  sq_dist_.assign(packed * L, 0.0);
+  y_.assign(std::size_t(n) * L, 0.0);
+  k_.resize(packed * L);
+  z_.resize(std::size_t(n) * L);
+  // Unused lanes repeat lane 0, so they stay numerically harmless.
+  for (int lane = 0; lane < L; ++lane) {
+    const int s = lane < lanes ? lane : 0;
+    std::size_t k = 0;
+    for (int i = 0; i < n; ++i) {
+      const double azi = az[s][i], eli = el[s][i];
+      for (int j = 0; j <= i; ++j, ++k) {
+        const double da = azi - double(az[s][j]);
+        const double de = eli - double(el[s][j]);
+        sq_dist_[k * L + lane] = da * da + de * de;
+      }
+      y_[std::size_t(i) * L + lane] = y[s][i];
+    }
+  }
+}
+
+void LengthScaleSearch::negLogMarginalLikelihood(const double* length_scale, double* out) {
+  const int n = n_;
+  const std::size_t packed = std::size_t(n) * (n + 1) / 2;
+  const double a2 = params_.amplitude * params_.amplitude;
+  const double noise2 = params_.noise * params_.noise;
+  double scale[L];
+  for (int lane = 0; lane < L; ++lane)
+    scale[lane] = -0.5 / (length_scale[lane] * length_scale[lane]);
+  for (std::size_t k = 0; k < packed; ++k) {
+    for (int lane = 0; lane < L; ++lane)
+      k_[k * L + lane] = sq_dist_[k * L + lane] * scale[lane];
+  }
+  Eigen::Map<Eigen::ArrayXd> kernel(k_.data(), packed * L);
+  kernel = kernel.exp() * a2;
+
+  // Row-oriented Cholesky with reciprocal pivots, lane-parallel; a failed lane keeps going on a
+  // harmless pivot of 1 and reports +inf.
+  bool failed[L] = {false};
+  double inverse_diag[kMaxBatchedSize][L];
+  double* row_i = k_.data();
+  for (int i = 0; i < n; ++i) {
+    for (int lane = 0; lane < L; ++lane)
+      row_i[i * L + lane] += noise2;
+    const double* row_j = k_.data();
+    for (int j = 0; j < i; ++j) {
+      double sum[L];
+      for (int lane = 0; lane < L; ++lane)
+        sum[lane] = row_i[j * L + lane];
+      for (int k = 0; k < j; ++k) {
+        for (int lane = 0; lane < L; ++lane)
+          sum[lane] -= row_i[k * L + lane] * row_j[k * L + lane];
+      }
+      for (int lane = 0; lane < L; ++lane)
+        row_i[j * L + lane] = sum[lane] * inverse_diag[j][lane];
+      row_j += (j + 1) * L;
+    }
+    double diag[L];
+    for (int lane = 0; lane < L; ++lane)
+      diag[lane] = row_i[i * L + lane];
+    for (int k = 0; k < i; ++k) {
+      for (int lane = 0; lane < L; ++lane)
+        diag[lane] -= row_i[k * L + lane] * row_i[k * L + lane];
+    }
+    for (int lane = 0; lane < L; ++lane) {
+      if (!(diag[lane] > 0.0) || !std::isfinite(diag[lane])) {
+        failed[lane] = true;
+        diag[lane] = 1.0;
+      }
+      const double pivot = std::sqrt(diag[lane]);
+      row_i[i * L + lane] = pivot;
+      inverse_diag[i][lane] = 1.0 / pivot;
+    }
+    row_i += (i + 1) * L;
+  }
+
+  // z = L^-1 y (forward substitution dividing by the pivot, as LocalGp does), quad = |z|^2,
+  // log det = sum of logs of products of up to 16 pivots.
+  double quad[L] = {0.0}, log_det[L] = {0.0}, product[L];
+  for (int lane = 0; lane < L; ++lane)
+    product[lane] = 1.0;
+  const double* row = k_.data();
+  for (int i = 0; i < n; ++i) {
+    double sum[L];
+    for (int lane = 0; lane < L; ++lane)
+      sum[lane] = y_[std::size_t(i) * L + lane];
+    for (int k = 0; k < i; ++k) {
+      for (int lane = 0; lane < L; ++lane)
+        sum[lane] -= row[k * L + lane] * z_[std::size_t(k) * L + lane];
+    }
+    for (int lane = 0; lane < L; ++lane) {
+      const double pivot = row[i * L + lane];
+      const double z = sum[lane] / pivot;
+      z_[std::size_t(i) * L + lane] = z;
+      quad[lane] += z * z;
+      product[lane] *= pivot;
+    }
+    if ((i & 15) == 15) {
+      for (int lane = 0; lane < L; ++lane) {
+        log_det[lane] += std::log(product[lane]);
+        product[lane] = 1.0;
+      }
+    }
+    row += (i + 1) * L;
+  }
+  for (int lane = 0; lane < L; ++lane) {
+    log_det[lane] += std::log(product[lane]);
+    out[lane] = failed[lane] ? std::numeric_limits<double>::infinity()
+                             : 0.5 * quad[lane] + log_det[lane] + 0.5 * n * kLog2Pi;
+  }
+}
+
+void LengthScaleSearch::search(int n, int lanes, const float* const* az, const float* const* el,
+                               const double* const* y, double* length_scale) {
+  load(n, lanes, az, el, y);
+  // goldenSectionMinimize (local_gp.hpp), one bracket per lane. All lanes share lo, hi and tol,
+  // so they take the same number of steps; only which end moves differs per lane.
+  const double ratio = (std::sqrt(5.0) + 1.0) / 2.0;
+  double a[L], b[L], c[L], d[L], fc[L], fd[L];
+  bool done[L];
+  for (int lane = 0; lane < L; ++lane) {
+    a[lane] = params_.length_scale_min;
+    b[lane] = params_.length_scale_max;
+    c[lane] = b[lane] - (b[lane] - a[lane]) / ratio;
+    d[lane] = a[lane] + (b[lane] - a[lane]) / ratio;
+    done[lane] = lane >= lanes;
+  }
+  negLogMarginalLikelihood(c, fc);
+  negLogMarginalLikelihood(d, fd);
+  double probe[L], f[L];
+  bool moved_hi[L];
+  for (int iteration = 0; iteration < params_.max_iterations; ++iteration) {
+    bool any = false;
+    for (int lane = 0; lane < L; ++lane) {
+      if (!done[lane] && std::abs(b[lane] - a[lane]) <= params_.tolerance) done[lane] = true;
+      if (done[lane]) {
+        probe[lane] = c[lane];  // evaluated but ignored
+        continue;
+      }
+      any = true;
+      moved_hi[lane] = fc[lane] < fd[lane];
+      if (moved_hi[lane]) {
+        b[lane] = d[lane];
+        d[lane] = c[lane];
+        fd[lane] = fc[lane];
+        c[lane] = b[lane] - (b[lane] - a[lane]) / ratio;
+        probe[lane] = c[lane];
+      } else {
+        a[lane] = c[lane];
+        c[lane] = d[lane];
+        fc[lane] = fd[lane];
+        d[lane] = a[lane] + (b[lane] - a[lane]) / ratio;
+        probe[lane] = d[lane];
+      }
+    }
+    if (!any) break;
+    negLogMarginalLikelihood(probe, f);
+    for (int lane = 0; lane < L; ++lane) {
+      if (done[lane]) continue;
+      (moved_hi[lane] ? fc : fd)[lane] = f[lane];
+    }
+  }
+  for (int lane = 0; lane < lanes; ++lane)
+    length_scale[lane] = fc[lane] < fd[lane] ? c[lane] : d[lane];
+}
+
+}  // namespace multimodal_nvs

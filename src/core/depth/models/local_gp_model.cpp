@@ -1,0 +1,177 @@
+#include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
+#include "multimodal_nvs/core/depth/gp/local_gp.hpp"
+#include "multimodal_nvs/core/depth/gp/reference_arithmetic.hpp"
+
+namespace multimodal_nvs {
+std::vector<double> shiftedTargets(const std::vector<AngularSample>& samples, double shift) {
+  std::vector<double> y(samples.size());
+  const float shift32 = static_cast<float>(shift);
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    y[i] = samples[i].depth - shift32;
+  return y;
+}
+
+void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                    const NeighbourSets& sets, const DepthCompletionParams& params, double shift,
+                    ThreadPool& pool, PixelPredictions& out) {
+  predictLocalGp(samples, shiftedTargets(samples, shift), angles, sets, params, PriorMean{shift},
+                 pool, out);
+}
+
+void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
+                    const PixelAngleGrid& angles, const NeighbourSets& sets,
+                    const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
+                    PixelPredictions& out) {
+  const LocalGpParams& gp = params.gp;
+  fillPredictions(angles, static_cast<float>(prior.constant),
+                  static_cast<float>(gp.priorVariance()), pool, out);
+
+  // Storage for every set's posterior, laid out by prefix sums so sets can be solved in parallel.
+  const int set_count = sets.setCount();
+  std::vector<std::size_t> factor_offset(set_count + 1, 0), member_offset(set_count + 1, 0);
+  for (int s = 0; s < set_count; ++s) {
+    const std::size_t n = sets.setSize(s);
+    factor_offset[s + 1] = factor_offset[s] + n * (n + 1) / 2;
+    member_offset[s + 1] = member_offset[s] + n;
+  }
+  std::vector<double> factors(factor_offset[set_count]);
+  std::vector<double> betas(member_offset[set_count]);
+  std::vector<float> member_az(member_offset[set_count]), member_el(member_offset[set_count]);
+  std::vector<double> member_y(member_offset[set_count]);
+  std::vector<double> length_scales(set_count);
+  std::vector<std::uint8_t> solved(set_count, 0);
+
+  // Two-sample sets are searched with the reference's exact arithmetic (see
+  // reference_arithmetic.hpp), which needs the reference's order of the two samples.
+  const std::vector<std::int64_t> rank = referenceSampleRanks(samples, params.radius_deg);
+
+  // Gather every set's samples once.
+  for (int s = 0; s < set_count; ++s) {
+    const int* members = sets.members(s);
+    for (int i = 0; i < sets.setSize(s); ++i) {
+      member_az[member_offset[s] + i] = samples[members[i]].azimuth_deg;
+      member_el[member_offset[s] + i] = samples[members[i]].elevation_deg;
+      member_y[member_offset[s] + i] = targets[members[i]];
+    }
+  }
+
+  // 1. Length scales. Sets of 3..32 samples go in batches of equal size, one set per SIMD lane.
+  std::vector<std::vector<int>> by_size(LengthScaleSearch::kMaxBatchedSize + 1);
+  std::vector<int> singles;  // sets searched one at a time
+  for (int s = 0; s < set_count; ++s) {
+    const int n = sets.setSize(s);
+    if (n >= 3 && n <= LengthScaleSearch::kMaxBatchedSize) {
+      by_size[n].push_back(s);
+    } else {
+      singles.push_back(s);
+    }
+  }
+  struct Batch {
+    int size, first, count;
+  };
+  std::vector<Batch> batches;
+  for (int n = 3; n <= LengthScaleSearch::kMaxBatchedSize; ++n) {
+    for (std::size_t i = 0; i < by_size[n].size(); i += LengthScaleSearch::kLanes) {
+      batches.push_back({n, static_cast<int>(i),
+                         static_cast<int>(std::min<std::size_t>(LengthScaleSearch::kLanes,
+                                                                by_size[n].size() - i))});
+    }
+  }
+  std::vector<LengthScaleSearch> searches(pool.size(), LengthScaleSearch(gp));
+  pool.parallelFor(static_cast<long long>(batches.size()), [&](long long b, int worker) {
+    const Batch& batch = batches[b];
+    const float* az[LengthScaleSearch::kLanes];
+    const float* el[LengthScaleSearch::kLanes];
+    const double* y[LengthScaleSearch::kLanes];
+    double result[LengthScaleSearch::kLanes];
+    for (int lane = 0; lane < batch.count; ++lane) {
+      const int s = by_size[batch.size][batch.first + lane];
+      az[lane] = member_az.data() + member_offset[s];
+      el[lane] = member_el.data() + member_offset[s];
+      y[lane] = member_y.data() + member_offset[s];
+    }
+    searches[worker].search(batch.size, batch.count, az, el, y, result);
+    for (int lane = 0; lane < batch.count; ++lane) {
+      length_scales[by_size[batch.size][batch.first + lane]] = result[lane];
+    }
+  });
+  std::vector<LocalGp> gps(pool.size(), LocalGp(gp));
+  pool.parallelFor(static_cast<long long>(singles.size()), [&](long long k, int worker) {
+    const int s = singles[k];
+    const int n = sets.setSize(s);
+    const float* az = member_az.data() + member_offset[s];
+    const float* el = member_el.data() + member_offset[s];
+    const double* y = member_y.data() + member_offset[s];
+    if (n == 1) {
+      // K = a^2 + sigma^2 whatever the length scale: every comparison of the search is a tie, so
+      // its path is fixed and needs no likelihood evaluation.
+      length_scales[s] =
+          goldenSectionMinimize([](double) { return 0.0; }, gp.length_scale_min,
+                                gp.length_scale_max, gp.tolerance, gp.max_iterations);
+    } else if (n == 2) {
+      const int* members = sets.members(s);
+      const int first = rank[members[0]] <= rank[members[1]] ? 0 : 1, second = 1 - first;
+      length_scales[s] = goldenSectionMinimize(
+          [&](double l) {
+            return referenceNllTwoSamples(az[first], el[first], y[first], az[second], el[second],
+                                          y[second], gp.amplitude, gp.noise, l);
+          },
+          gp.length_scale_min, gp.length_scale_max, gp.tolerance, gp.max_iterations);
+    } else {
+      gps[worker].setData(az, el, y, n);
+      length_scales[s] = gps[worker].searchLengthScale();
+    }
+  });
+
+  // 2. One factorisation per set at its length scale.
+  struct Factors {
+    std::vector<double> factor, beta;
+  };
+  std::vector<Factors> scratch(pool.size());
+  pool.parallelFor(
+      set_count,
+      [&](long long set_index, int worker) {
+        const int s = static_cast<int>(set_index);
+        const int n = sets.setSize(s);
+        LocalGp& local = gps[worker];
+        local.setData(member_az.data() + member_offset[s], member_el.data() + member_offset[s],
+                      member_y.data() + member_offset[s], n);
+        Factors& f = scratch[worker];
+        if (!local.posterior(length_scales[s], f.factor, f.beta)) return;  // prior stays
+        std::copy(f.factor.begin(), f.factor.end(), factors.begin() + factor_offset[s]);
+        std::copy(f.beta.begin(), f.beta.end(), betas.begin() + member_offset[s]);
+        solved[s] = 1;
+      },
+      4);
+
+  const int cols = angles.grid().cols();
+  pool.parallelFor(
+      angles.grid().rows(),
+      [&](long long row_index, int) {
+        const int row = static_cast<int>(row_index);
+        const float* az = angles.azimuthRow(row);
+        const float* el = angles.elevationRow(row);
+        for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
+          const NeighbourSegment& seg = sets.segments()[k];
+          if (!solved[seg.set_id]) continue;
+          const std::size_t pixel = std::size_t(row) * cols + seg.col_begin;
+          predictFromFactor(factors.data() + factor_offset[seg.set_id],
+                            betas.data() + member_offset[seg.set_id],
+                            member_az.data() + member_offset[seg.set_id],
+                            member_el.data() + member_offset[seg.set_id], sets.setSize(seg.set_id),
+                            length_scales[seg.set_id], gp, az + seg.col_begin, el + seg.col_begin,
+                            seg.col_end - seg.col_begin, prior.constant, out.mean.data() + pixel,
+                            out.variance.data() + pixel);
+        }
+      },
+      4);
+}
+
+}  // namespace multimodal_nvs

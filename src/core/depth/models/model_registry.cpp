@@ -1,0 +1,82 @@
+#include "multimodal_nvs/core/depth/models/model_registry.hpp"
+
+#include "multimodal_nvs/core/depth/depth_shift.hpp"
+#include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/models/constant_model.hpp"
+#include "multimodal_nvs/core/depth/models/ground_gp_model.hpp"
+#include "multimodal_nvs/core/depth/models/ipbasic_model.hpp"
+#include "multimodal_nvs/core/depth/models/kernel_model.hpp"
+#include "multimodal_nvs/core/depth/models/linear_model.hpp"
+#include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
+#include "multimodal_nvs/core/depth/models/nearest_model.hpp"
+#include "multimodal_nvs/core/depth/models/tiled_local_gp_model.hpp"
+#include "multimodal_nvs/core/depth/neighbour_sets.hpp"
+
+namespace multimodal_nvs {
+namespace {
+GroundPlane groundPlane(const GroundPriorParams& g) {
+  GroundPlane plane;
+  plane.up = Eigen::Vector3d(g.up_x, g.up_y, g.up_z).normalized();
+  plane.height = g.camera_height;
+  return plane;
+}
+}  // namespace
+
+bool isBaseline(DepthModel model) {
+  switch (model) {
+    case DepthModel::kNearest:
+    case DepthModel::kLinear:
+    case DepthModel::kIpBasic:
+    case DepthModel::kConstant:
+      return true;
+    default:
+      return false;
+  }
+}
+
+int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                     const DepthCompletionParams& params, double shift, ThreadPool& pool,
+                     PixelPredictions& out) {
+  switch (params.model) {
+    case DepthModel::kNearest:
+      predictNearest(samples, angles, params, pool, out);
+      return 0;
+    case DepthModel::kLinear:
+      predictLinear(samples, angles, params, pool, out);
+      return 0;
+    case DepthModel::kIpBasic:
+      predictIpBasic(samples, angles, params, pool, out);
+      return 0;
+    case DepthModel::kConstant:
+      predictConstant(samples, angles, params, pool, out);
+      return 0;
+    case DepthModel::kGroundGp:
+      if (groundInputIsDense(samples, angles, params)) {
+        // Dense input needs no neighbour sets: the interpolating prior is the prediction.
+        predictGroundGpDense(samples, angles, params, groundPlane(params.ground),
+                             computeShift(DepthShift{}, samples), pool, out);
+        return 0;
+      }
+      break;
+    case DepthModel::kLocalGpMle:
+      if (params.max_neighbors > 0) {
+        return predictTiledLocalGp(samples, angles, params, shift, pool, out);
+      }
+      break;
+    case DepthModel::kKernel:
+      break;
+  }
+  const NeighbourSets sets =
+      NeighbourSets::build(samples, angles, static_cast<float>(params.radius_deg), pool);
+  if (params.model == DepthModel::kLocalGpMle) {
+    predictLocalGp(samples, angles, sets, params, shift, pool, out);
+  } else if (params.model == DepthModel::kGroundGp) {
+    const double median = computeShift(DepthShift{}, samples);
+    predictGroundGp(samples, angles, sets, params, groundPlane(params.ground), median, pool, out);
+  } else {
+    predictKernel(samples, angles, sets, params, shift, pool, out);
+  }
+  return sets.setCount();
+}
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,21 @@
+#include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
+
+#include <algorithm>
+
+namespace multimodal_nvs {
+
+void fillPredictions(const PixelAngleGrid& angles, float mean, float variance, ThreadPool& pool,
+                     PixelPredictions& out) {
+  const std::size_t n = static_cast<std::size_t>(angles.grid().size());
+  out.mean.resize(n);
+  out.variance.resize(n);
+  constexpr std::size_t kChunk = 1 << 16;
+  pool.parallelFor(static_cast<long long>((n + kChunk - 1) / kChunk), [&](long long chunk, int) {
+    const std::size_t begin = static_cast<std::size_t>(chunk) * kChunk;
+    const std::size_t end = std::min(n, begin + kChunk);
+    std::fill(out.mean.begin() + begin, out.mean.begin() + end, mean);
+    std::fill(out.variance.begin() + begin, out.variance.begin() + end, variance);
+  });
+}
+
+}  // namespace multimodal_nvs

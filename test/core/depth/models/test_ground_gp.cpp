@@ -1,0 +1,408 @@
+// The ground_gp model: ground-plane prior, nearest-surface prior, residual GP, and a
+// variance that grows away from the samples.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <utility>
+#include <vector>
+
+#include "core/scene_fixtures.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/models/ground_gp_model.hpp"
+#include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+#include "multimodal_nvs/core/eval/depth_metrics.hpp"
+
+namespace mm = multimodal_nvs;
+using mm::test::pointOnPixelRay;
+using mm::test::smallCamera;
+using mm::test::smallImage;
+
+TEST(GroundPrior, LevelCameraSeesTheGroundAtHeightOverSlope) {
+  Eigen::Matrix4d level = Eigen::Matrix4d::Identity();
+  // Camera axes (x right, y down, z forward) in a z-up world: x -> -y... use the VoD convention
+  // world = (z_cam, -x_cam, -y_cam): rows of the rotation map camera to world.
+  level.block<3, 3>(0, 0) << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  level(2, 3) = 1.5;
+  const mm::GroundPlane plane = mm::GroundPlane::fromCameraToWorld(level);
+  EXPECT_NEAR(plane.up.y(), -1.0, 1e-12);
+  EXPECT_NEAR(plane.height, 1.5, 1e-12);
+  EXPECT_NEAR(plane.depthAlong(0.3, 0.1), 15.0, 1e-9);   // z = h / y
+  EXPECT_TRUE(std::isinf(plane.depthAlong(0.0, -0.1)));  // above the horizon
+}
+
+TEST(GroundPrior, PixelPriorIsGroundBelowTheHorizonAndFarAbove) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::GroundPlane plane;
+  plane.height = 2.0;
+  const auto prior = mm::groundPriorDepth(angles, plane, 50.0);
+  EXPECT_NEAR(prior[std::size_t(100) * 160 + 7], 2.0 / ((100 - 60) / 100.0), 1e-4);
+  EXPECT_EQ(prior[std::size_t(10) * 160 + 7], 50.0f);
+}
+
+TEST(GroundPrior, NearestSurfaceTakesTheRankedDepthAmongTheNearestSamples) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  // A near return in front of three far ones around the same direction.
+  const auto samples = mm::toAngularSamples(
+      {pointOnPixelRay(smallCamera(), 80, 60, 5.0), pointOnPixelRay(smallCamera(), 81, 60, 30.0),
+       pointOnPixelRay(smallCamera(), 80, 61, 31.0), pointOnPixelRay(smallCamera(), 79, 60, 32.0)});
+  const auto first = mm::nearestSurfaceDepth(samples, angles, 4, 1, 1, pool);
+  const auto second = mm::nearestSurfaceDepth(samples, angles, 4, 2, 1, pool);
+  const std::size_t centre = std::size_t(60) * 160 + 80;
+  EXPECT_NEAR(first.depth[centre], 5.0, 1e-4);
+  EXPECT_NEAR(second.depth[centre], 30.0, 1e-3);
+  EXPECT_LT(first.distance_deg[centre], 1e-3);
+  EXPECT_GT(first.distance_deg[std::size_t(5) * 160 + 5], 20.0);
+  // A coarse lattice interpolates but keeps exact values at its nodes.
+  const auto coarse = mm::nearestSurfaceDepth(samples, angles, 4, 1, 8, pool);
+  EXPECT_NEAR(coarse.depth[std::size_t(56) * 160 + 80], first.depth[std::size_t(56) * 160 + 80],
+              1e-4);
+}
+
+namespace {
+// ground_gp's parameters; `input` forces its dense (LiDAR) or sparse (radar) mode, or leaves it
+// automatic.
+mm::DepthCompletionParams groundGpParams(
+    mm::GroundPriorParams::Input input = mm::GroundPriorParams::Input::kAuto) {
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  params.ground.input = input;
+  return params;
+}
+
+// One completion of the small camera's full image.
+mm::DepthMap completeSmallImage(const std::vector<Eigen::Vector3d>& points,
+                                const mm::DepthCompletionParams& params, int threads = 2) {
+  mm::DepthCompleter completer(threads);
+  return completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+}
+}  // namespace
+
+TEST(GroundGp, RecoversAFlatRoadAndItsVarianceGrowsAwayFromSamples) {
+  // Samples on the ground plane 1.3 m below a level camera, only in the lower-left quadrant.
+  std::vector<Eigen::Vector3d> points;
+  for (int v = 70; v < 120; v += 5) {
+    for (int u = 0; u < 80; u += 5) {
+      const double z = 1.3 / ((v - 60) / 100.0);
+      points.push_back(pointOnPixelRay(smallCamera(), u, v, z));
+    }
+  }
+  const auto map = completeSmallImage(points, groundGpParams());
+  for (int v : {75, 90, 110}) {
+    for (int u : {10, 70, 150}) {  // the right half has no sample: the ground prior covers it
+      const double truth = 1.3 / ((v - 60) / 100.0);
+      EXPECT_NEAR(map.depth[std::size_t(v) * 160 + u], truth, 0.05 * truth) << v << "," << u;
+    }
+  }
+  const float near = map.variance[std::size_t(90) * 160 + 10];
+  const float far = map.variance[std::size_t(90) * 160 + 150];
+  EXPECT_GT(near, 0.0f);
+  EXPECT_GT(far, near);
+  for (float v : map.variance)
+    ASSERT_TRUE(std::isfinite(v));
+}
+
+TEST(GroundGp, NearReturnsWinOverFarOnes) {
+  // An object at 6 m seen by a few returns, with multipath returns at 40 m around it.
+  std::vector<Eigen::Vector3d> points;
+  for (int u = 60; u <= 100; u += 10) {
+    points.push_back(pointOnPixelRay(smallCamera(), u, 50, 6.0));
+    points.push_back(pointOnPixelRay(smallCamera(), u + 3, 52, 40.0));
+  }
+  const auto map = completeSmallImage(points, groundGpParams(), 1);
+  EXPECT_NEAR(map.depth[std::size_t(50) * 160 + 80], 6.0, 1.0);
+}
+
+TEST(GroundGp, InvalidParametersAreRejected) {
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  params.ground.surface_rank = 9;
+  mm::DepthCompleter completer(1);
+  EXPECT_THROW(completer.complete({}, smallCamera(), {smallImage(), 1}, params), mm::InputError);
+  params.ground = {};
+  params.ground.camera_height = 0.0;
+  EXPECT_THROW(completer.complete({}, smallCamera(), {smallImage(), 1}, params), mm::InputError);
+}
+
+// --- dense-input mode ----------------------------------------------------------------------------
+
+namespace {
+// A sample every `step` pixels over rows [v0, v1) of the small camera, depth from `depth(u, v)`.
+template <typename Depth>
+std::vector<Eigen::Vector3d> denseScan(int v0, int v1, int step, Depth depth) {
+  std::vector<Eigen::Vector3d> points;
+  for (int v = v0; v < v1; v += step) {
+    for (int u = 0; u < 160; u += step)
+      points.push_back(pointOnPixelRay(smallCamera(), u, v, depth(u, v)));
+  }
+  return points;
+}
+}  // namespace
+
+TEST(GroundGpDense, AutoModeFollowsTheSampleSpacing) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  const auto flat = [](int, int) { return 10.0; };
+  // Small camera: ~0.57 deg per pixel. Every 2nd pixel is ~1.1 deg apart (dense for r = 2.5 deg
+  // by the spacing <= r / 2 rule), every 8th ~4.6 deg (sparse).
+  params.radius_deg = 2.5;
+  EXPECT_TRUE(
+      mm::groundInputIsDense(mm::toAngularSamples(denseScan(0, 120, 2, flat)), angles, params));
+  EXPECT_FALSE(
+      mm::groundInputIsDense(mm::toAngularSamples(denseScan(0, 120, 8, flat)), angles, params));
+  params.ground.input = mm::GroundPriorParams::Input::kDense;
+  EXPECT_TRUE(mm::groundInputIsDense({}, angles, params));
+  params.ground.input = mm::GroundPriorParams::Input::kSparse;
+  EXPECT_FALSE(
+      mm::groundInputIsDense(mm::toAngularSamples(denseScan(0, 120, 2, flat)), angles, params));
+  EXPECT_EQ(mm::parseGroundInput("dense"), mm::GroundPriorParams::Input::kDense);
+  EXPECT_THROW(mm::parseGroundInput("lidar"), mm::InputError);
+}
+
+TEST(GroundGpDense, InverseDepthInterpolationIsExactOnTheRoad) {
+  // Road 1.3 m below a level camera, a sample every 6 pixels: z = h / y is convex in the image,
+  // so interpolating z (the linear baseline) overestimates between rows; 1/z is an affine function
+  // of the image position on any plane, so interpolating it is nearly exact.
+  const auto road = [](int, int v) { return 1.3 / ((v - 60) / 100.0); };
+  const auto points = denseScan(66, 120, 6, road);
+  mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  const auto map = completeSmallImage(points, params);
+  params.model = mm::DepthModel::kLinear;
+  const auto linear = completeSmallImage(points, params);
+  double worst = 0.0, worst_linear = 0.0;
+  for (int v = 69; v < 114; ++v) {
+    for (int u = 10; u < 150; u += 7) {
+      const std::size_t p = std::size_t(v) * 160 + u;
+      worst = std::max(worst, std::abs(map.depth[p] - road(u, v)) / road(u, v));
+      worst_linear = std::max(worst_linear, std::abs(linear.depth[p] - road(u, v)) / road(u, v));
+    }
+  }
+  // Not exact: the barycentric weights are angular, which differs from the normalised image
+  // position at second order in a triangle's size (here 6 px of a 77-degree-wide camera).
+  EXPECT_LT(worst, 0.01) << worst_linear;
+  EXPECT_GT(worst_linear, 4 * worst) << worst;
+}
+
+TEST(GroundGpDense, OcclusionEdgesAreNotBlended) {
+  // A box at 5 m (columns 60-99, rows 30-69) in front of a wall at 20 m, sampled every 3 pixels.
+  const auto scene = [](int u, int v) {
+    return u >= 60 && u < 100 && v >= 30 && v < 70 ? 5.0 : 20.0;
+  };
+  const auto points = denseScan(0, 120, 3, scene);
+  mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  params.ground.camera_height = 100.0;  // no ground in view: only the edge logic is tested
+  const auto map = completeSmallImage(points, params);
+  int blended = 0;
+  for (int v = 3; v < 117; ++v) {
+    for (int u = 3; u < 157; ++u) {
+      const float z = map.depth[std::size_t(v) * 160 + u];
+      blended += std::abs(z - 5.0f) > 0.05f && std::abs(z - 20.0f) > 0.2f;
+    }
+  }
+  EXPECT_EQ(blended, 0);
+  // Far from the edge: the right surface, with a small variance; on the edge a large one.
+  EXPECT_NEAR(map.depth[std::size_t(50) * 160 + 80], 5.0f, 1e-3);
+  EXPECT_NEAR(map.depth[std::size_t(100) * 160 + 20], 20.0f, 1e-2);
+  EXPECT_LT(map.variance[std::size_t(50) * 160 + 80], 0.1f);
+  EXPECT_GT(map.variance[std::size_t(50) * 160 + 100], 1.0f);
+}
+
+TEST(GroundGpDense, ColumnsExtendTheirTopmostReturnUpward) {
+  // A wall 8 m ahead seen by rings from row 40 down (the LiDAR's highest ring at row 40), over a
+  // road 1.3 m below a level camera. A vertical surface keeps its camera depth along an image
+  // column, so above the top ring every column carries the wall's depth, more uncertain higher up.
+  const double wall = 8.0;
+  const auto scene = [wall](int, int v) {
+    return v > 60 ? std::min(wall, 1.3 / ((v - 60) / 100.0)) : wall;
+  };
+  const auto points = denseScan(40, 120, 4, scene);
+  const mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  const auto map = completeSmallImage(points, params);
+  for (int u = 2; u < 158; u += 13) {
+    for (int v = 0; v < 38; v += 5) {
+      EXPECT_NEAR(map.depth[std::size_t(v) * 160 + u], wall, 1e-3) << u << "," << v;
+    }
+    // sigma / depth: the surface's own at the ring, plus relative_sigma_per_deg per degree above.
+    const auto relative_sigma = [&](int v) {
+      return std::sqrt(map.variance[std::size_t(v) * 160 + u]) / wall;
+    };
+    const double deg_per_px = 180.0 / (M_PI * 100.0);
+    EXPECT_NEAR(
+        relative_sigma(30),
+        params.ground.dense_relative_sigma + params.ground.relative_sigma_per_deg * 10 * deg_per_px,
+        1e-4);
+    EXPECT_GT(relative_sigma(0), relative_sigma(30));
+  }
+}
+
+TEST(GroundGpDense, TrianglesBridgingAnEmptyRegionDoNotOverrideTheExtension) {
+  // The wall of the test above plus one high return far off to the right (a roof 7 % farther: the
+  // same surface for the edge test): the hull-edge triangles from the top ring up to it span the
+  // empty region above the ring, and interpolating across them would blend wall and roof.
+  const double wall = 8.0;
+  auto points = denseScan(40, 120, 2, [wall](int, int) { return wall; });
+  points.push_back(pointOnPixelRay(smallCamera(), 150, 2, 8.6));
+  const mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  const auto map = completeSmallImage(points, params);
+  // Triangles with an edge over 20 mean spacings (here ~2 px, so ~23 deg) bridge; nearer the roof
+  // return the triangles are shorter and their interpolation stands.
+  for (const auto& [v, u] : {std::pair{20, 116}, {20, 124}, {30, 92}, {30, 100}, {30, 116}}) {
+    EXPECT_NEAR(map.depth[std::size_t(v) * 160 + u], wall, 1e-3) << v << "," << u;
+  }
+  EXPECT_GT(map.depth[std::size_t(20) * 160 + 140], wall + 0.1);
+}
+
+TEST(GroundGpDense, ColumnsWhoseTopReturnIsGroundAreNotExtended) {
+  // Only road returns: nothing vertical to extend; the pixels above keep the nearest-sample prior,
+  // whose uncertainty starts at relative_sigma.
+  const auto road = [](int, int v) { return 1.3 / ((v - 60) / 100.0); };
+  const auto points = denseScan(70, 120, 4, road);
+  const mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  const auto map = completeSmallImage(points, params);
+  const std::size_t above = std::size_t(50) * 160 + 80;
+  EXPECT_GE(std::sqrt(map.variance[above]) / map.depth[above], params.ground.relative_sigma);
+}
+
+TEST(GroundPrior, SupportDistanceComesFromTheSupportSet) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  const auto objects = mm::toAngularSamples({pointOnPixelRay(smallCamera(), 20, 20, 5.0)});
+  const auto support = mm::toAngularSamples(
+      {pointOnPixelRay(smallCamera(), 20, 20, 5.0), pointOnPixelRay(smallCamera(), 120, 100, 9.0)});
+  const auto own = mm::nearestSurfaceDepth(objects, angles, 1, 1, 1, pool);
+  const auto with = mm::nearestSurfaceDepth(objects, angles, 1, 1, 1, pool, &support);
+  const std::size_t at_second = std::size_t(100) * 160 + 120;
+  EXPECT_EQ(own.depth[at_second], with.depth[at_second]);  // the surface: objects only
+  EXPECT_GT(own.distance_deg[at_second], 20.0f);
+  EXPECT_LT(with.distance_deg[at_second], 1e-3f);
+}
+
+TEST(GroundPrior, SurfaceRowsInterpolateLikeTheFullResolutionPrior) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  const auto samples = mm::toAngularSamples({pointOnPixelRay(smallCamera(), 20, 20, 5.0),
+                                             pointOnPixelRay(smallCamera(), 120, 100, 9.0),
+                                             pointOnPixelRay(smallCamera(), 70, 50, 14.0)});
+  // A lattice step that does not divide the grid: the last row and column are extra nodes.
+  const auto full = mm::nearestSurfaceDepth(samples, angles, 2, 1, 7, pool);
+  const auto rows = mm::nearestSurfaceRows(samples, angles, 2, 1, 7, pool);
+  ASSERT_TRUE(rows.has_depth);
+  for (int r = 0; r < angles.grid().rows(); ++r) {
+    const auto w = rows.row(r);
+    for (int c = 0; c < angles.grid().cols(); ++c) {
+      const std::size_t p = std::size_t(r) * angles.grid().cols() + c;
+      ASSERT_EQ(rows.depth(r, c), full.depth[p]) << r << "," << c;
+      ASSERT_EQ(mm::NearestSurfaceRows::lerp(w.distance_lo[c], w.distance_hi[c], w.t),
+                full.distance_deg[p]);
+    }
+  }
+  // Without samples: no surface anywhere.
+  const auto none = mm::nearestSurfaceRows({}, angles, 2, 1, 7, pool);
+  EXPECT_FALSE(none.has_depth);
+  EXPECT_TRUE(std::isinf(none.depth(5, 5)));
+}
+
+TEST(GroundPrior, SingleColumnGridIsCoveredByTheLattice) {
+  // A one-pixel-wide grid has a single lattice column: every pixel still gets the surface.
+  const mm::PixelAngleGrid angles(smallCamera(), {{120, 1}, 1});
+  mm::ThreadPool pool(2);
+  const auto samples = mm::toAngularSamples({pointOnPixelRay(smallCamera(), 0, 60, 6.0)});
+  const auto full = mm::nearestSurfaceDepth(samples, angles, 1, 1, 16, pool);
+  for (float d : full.depth)
+    EXPECT_FLOAT_EQ(d, 6.0f);
+}
+
+TEST(GroundPrior, NearestSurfaceTiesGoToTheEarlierSample) {
+  // Three returns in one direction are equally near every pixel: the k nearest are the earliest.
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  std::vector<mm::AngularSample> samples = {{-20.0f, 5.0f, 50.0f},
+                                            {3.0f, -2.0f, 30.0f},
+                                            {3.0f, -2.0f, 10.0f},
+                                            {3.0f, -2.0f, 20.0f},
+                                            {25.0f, 1.0f, 40.0f}};
+  const auto lattice = mm::nearestSurfaceRows(samples, angles, 2, 2, 4, pool);
+  const float at_node = lattice.depth(60, 80);  // nearest to all three: (30, 10), not (10, 20)
+  EXPECT_EQ(at_node, 30.0f);
+}
+
+TEST(GroundPrior, NearestSurfaceMatchesAFullSortAtEveryNode) {
+  // The k nearest by (squared float distance, index), as a full sort finds them; quantised angles
+  // make ties, duplicates and a support set exercise every path of the search.
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> az(-80, 80), el(-60, 60), depth(1, 60);
+  auto draw = [&](int n) {
+    std::vector<mm::AngularSample> v;
+    for (int i = 0; i < n; ++i) {
+      v.push_back({az(rng) * 0.5f, el(rng) * 0.5f, static_cast<float>(depth(rng))});
+      if (i % 7 == 3) v.push_back(v[rng() % v.size()]);
+    }
+    return v;
+  };
+  const std::vector<mm::AngularSample> samples = draw(150), support = draw(300);
+  const int step = 6;
+  for (const auto& [k, rank] : {std::pair{1, 1}, {2, 2}, {8, 2}, {8, 5}, {40, 3}}) {
+    const auto lattice = mm::nearestSurfaceRows(samples, angles, k, rank, step, pool, &support);
+    for (std::size_t i = 0; i < lattice.node_rows.size(); ++i) {
+      const int r = lattice.node_rows[i];
+      for (int c = 0; c < lattice.cols; c += step) {
+        const float qaz = angles.azimuthRow(r)[c], qel = angles.elevationRow(r)[c];
+        auto squared = [&](const mm::AngularSample& s) {
+          const float da = s.azimuth_deg - qaz, de = s.elevation_deg - qel;
+          return da * da + de * de;
+        };
+        std::vector<std::pair<float, int>> order;
+        for (std::size_t j = 0; j < samples.size(); ++j)
+          order.emplace_back(squared(samples[j]), static_cast<int>(j));
+        std::sort(order.begin(), order.end());
+        std::vector<float> depths;
+        for (int t = 0; t < k; ++t)
+          depths.push_back(samples[order[t].second].depth);
+        std::sort(depths.begin(), depths.end());
+        float nearest_support = INFINITY;
+        for (const auto& s : support)
+          nearest_support = std::min(nearest_support, squared(s));
+        const std::size_t p = i * lattice.cols + c;
+        ASSERT_EQ(lattice.depth_rows[p], depths[rank - 1]) << k << " " << r << "," << c;
+        ASSERT_EQ(lattice.distance_rows[p], static_cast<float>(std::sqrt(double(nearest_support))));
+      }
+    }
+  }
+}
+
+// --- calibration ---------------------------------------------------------------------------------
+
+TEST(Calibration, CentralNormalQuantiles) {
+  EXPECT_NEAR(mm::centralNormalQuantile(0.95), 1.959963985, 1e-8);
+  EXPECT_NEAR(mm::centralNormalQuantile(0.6826894921), 1.0, 1e-8);
+  EXPECT_NEAR(mm::centralNormalQuantile(0.5), 0.6744897502, 1e-8);
+  EXPECT_THROW(mm::centralNormalQuantile(1.0), mm::InputError);
+}
+
+TEST(Calibration, CountsTruthInsideTheIntervals) {
+  // Errors of 0.5, 1.5, 2.5 sigma (sigma = 2), one pixel without truth, one not predicted.
+  const std::vector<float> prediction = {10.0f, 10.0f, 10.0f, 10.0f, -1.0f};
+  const std::vector<float> variance = {4.0f, 4.0f, 4.0f, 4.0f, 4.0f};
+  const std::vector<float> truth = {11.0f, 7.0f, 15.0f, 0.0f, 10.0f};
+  const std::vector<double> levels = {0.5, 0.9, 0.99};  // z = 0.674, 1.645, 2.576
+  const auto counts = mm::evaluateCalibration(prediction.data(), variance.data(), nullptr,
+                                              truth.data(), truth.size(), {}, levels);
+  EXPECT_EQ(counts.count, 3);
+  EXPECT_EQ(counts.inside, (std::vector<long long>{1, 2, 3}));
+  EXPECT_NEAR(counts.observed(1), 2.0 / 3.0, 1e-12);
+  mm::CalibrationCounts total = counts;
+  total.merge(counts);
+  EXPECT_EQ(total.count, 6);
+  EXPECT_EQ(total.inside[2], 6);
+  mm::CalibrationCounts other = counts;
+  other.levels = {0.5};
+  EXPECT_THROW(total.merge(other), mm::InputError);
+}

@@ -1,0 +1,99 @@
+// The complete_depth tool on good and bad input: outputs loadable as the reference's layout, and
+// every bad input gives a clear message and exit code 1 or 2, never a crash or a signal.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include "tool_runner.hpp"
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+
+#include "multimodal_nvs/core/io/kitti_calib.hpp"
+#include "multimodal_nvs/core/io/npy.hpp"
+#include "multimodal_nvs/core/io/point_files.hpp"
+
+namespace io = multimodal_nvs::io;
+
+namespace {
+
+using multimodal_nvs::test::ToolResult;
+using RunResult = ToolResult;
+
+ToolResult runTool(const std::string& args) {
+  return multimodal_nvs::test::runTool("complete_depth", args);
+}
+
+std::string dir() {
+  return ::testing::TempDir();
+}
+
+void writeScene() {
+  io::writeKittiCalib(
+      dir() + "cd_calib.txt", {100, 100, 80, 60},
+      (Eigen::Matrix<double, 3, 4>() << 0, -1, 0, 0, 0, 0, -1, 0, 1, 0, 0, 0).finished());
+  // Sensor frame x forward, y left, z up; 3 points ahead of the camera.
+  io::writeFloatRecords(dir() + "cd_points.bin",
+                        {10, 0, 0, 1, 0, 0, 0, 12, 1, 0.5, 1, 0, 0, 0, 8, -1, -0.5, 1, 0, 0, 0});
+}
+
+}  // namespace
+
+TEST(CompleteDepthTool, WritesTheReferenceLayoutAndOneJsonLine) {
+  writeScene();
+  const auto r =
+      runTool("--points " + dir() + "cd_points.bin --calib " + dir() +
+              "cd_calib.txt --image-size 120 160 --stride 2 --png --output " + dir() + "cd_out");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("\"pixels\": 4800"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\"points_in_view\": 3"), std::string::npos) << r.output;
+  const auto depth = io::readNpy(dir() + "cd_out_depth.npy");
+  EXPECT_EQ(depth.shape, (std::vector<std::size_t>{60, 80}));
+  EXPECT_EQ(io::readNpy(dir() + "cd_out_valid.npy").dtype, "|u1");
+  EXPECT_EQ(io::readNpy(dir() + "cd_out_variance.npy").dtype, "<f4");
+  EXPECT_TRUE(std::ifstream(dir() + "cd_out_depth.png").good());
+}
+
+TEST(CompleteDepthTool, BadInputGivesAClearMessageAndNoCrash) {
+  writeScene();
+  const std::string calib = " --calib " + dir() + "cd_calib.txt";
+  const std::string points = " --points " + dir() + "cd_points.bin";
+  std::ofstream(dir() + "cd_trunc.bin", std::ios::binary) << std::string(30, '\0');
+  std::ofstream(dir() + "cd_notr.txt") << "P2: 100 0 80 0 0 100 60 0 0 0 1 0\n";
+  std::ofstream(dir() + "cd_nan.txt")
+      << "P2: 100 0 80 0 0 abc 60 0 0 0 1 0\nTr_velo_to_cam: 1 0 0 0 0 1 0 0 0 0 1 0\n";
+  std::ofstream(dir() + "cd_f0.txt")
+      << "P2: 0 0 80 0 0 100 60 0 0 0 1 0\nTr_velo_to_cam: 1 0 0 0 0 1 0 0 0 0 1 0\n";
+  const struct {
+    std::string args, expected;
+  } cases[] = {
+      {" --points /nonexistent.bin" + calib + " --image-size 10 10", "cannot open"},
+      {" --points " + dir() + "cd_trunc.bin" + calib + " --image-size 10 10", "not a multiple"},
+      {points + " --calib " + dir() + "cd_notr.txt --image-size 10 10", "Tr_velo_to_cam"},
+      {points + " --calib " + dir() + "cd_nan.txt --image-size 10 10", "unparsable"},
+      {points + " --calib " + dir() + "cd_f0.txt --image-size 10 10", "focal length"},
+      {points + calib, "--image-size"},
+      {points + calib + " --image-size 10 10 --model magic", "unknown depth model"},
+      {points + calib + " --image-size 10 10 --stride 0", "stride"},
+      {points + calib + " --image-size 10 10 --bogus", "unknown argument"},
+      {points + calib + " --image-size 10 10 --radius-deg abc", "not a number"},
+  };
+  for (const auto& c : cases) {
+    const auto r = runTool(c.args);
+    EXPECT_TRUE(r.exit_code == 1 || r.exit_code == 2) << c.args << " -> " << r.exit_code << "\n"
+                                                      << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+  }
+}
+
+TEST(CompleteDepthTool, AScanWithNoUsablePointYieldsThePriorWithAWarning) {
+  writeScene();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  io::writeFloatRecords(dir() + "cd_allnan.bin", {nan, 0, 0, 0, 0, 0, 0});
+  const auto r = runTool("--points " + dir() + "cd_allnan.bin --calib " + dir() +
+                         "cd_calib.txt --image-size 12 16 --output " + dir() + "cd_prior");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("no usable point"), std::string::npos);
+  const auto var = io::readNpy(dir() + "cd_prior_variance.npy").asFloat();
+  for (float v : var)
+    ASSERT_EQ(v, 625.0f);
+}
