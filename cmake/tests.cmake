@@ -2,29 +2,27 @@
 #   test/core/**   one gtest binary over the core, no ROS master
 #   test/tools/    the command-line tools run as processes on inputs the tests write
 #   test/ros/      conversions (plain gtest) and the nodelets (rostest), in the cmake/*_tests.cmake
+# mmnvs_add_gtest(NAME SOURCES...): a gtest over the core and the CLI helpers, run from the
+# repository root, with the real-data folder and the tools' folder compiled in (test_data.hpp,
+# tool_runner.hpp).
+function(mmnvs_add_gtest name)
+  catkin_add_gtest(${name} ${ARGN} WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
+  target_link_libraries(${name} multimodal_nvs_core multimodal_nvs_cli ${GTEST_MAIN_LIBRARIES})
+  target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
+  target_compile_definitions(${name} PRIVATE
+    MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}"
+    MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+endfunction()
+
 file(GLOB_RECURSE MMNVS_CORE_TEST_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test/core/*.cpp)
-catkin_add_gtest(test_core ${MMNVS_CORE_TEST_SOURCES} WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
-target_link_libraries(test_core multimodal_nvs_core multimodal_nvs_cli ${GTEST_MAIN_LIBRARIES})
-target_include_directories(test_core PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
-target_compile_definitions(test_core PRIVATE
-  MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}"
-  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+mmnvs_add_gtest(test_core ${MMNVS_CORE_TEST_SOURCES})
 # test_synthetic_scene runs make_synthetic_scene as a process.
 add_dependencies(test_core make_synthetic_scene)
 
 # The ROS-free tools end to end. vod_to_bag's test reads its bag back with rosbag, so it is a binary
 # of its own (the sanitizer build runs test_tools without linking ROS).
-set(MMNVS_TOOL_TESTS test_complete_depth_tool test_evaluate_tool test_render_conditioning_tool)
-set(MMNVS_TOOL_TEST_SOURCES)
-foreach(test ${MMNVS_TOOL_TESTS})
-  list(APPEND MMNVS_TOOL_TEST_SOURCES test/tools/${test}.cpp)
-endforeach()
-catkin_add_gtest(test_tools ${MMNVS_TOOL_TEST_SOURCES} WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
-target_link_libraries(test_tools multimodal_nvs_core multimodal_nvs_cli ${GTEST_MAIN_LIBRARIES})
-target_include_directories(test_tools PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
-target_compile_definitions(test_tools PRIVATE
-  MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}"
-  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+mmnvs_add_gtest(test_tools test/tools/test_complete_depth_tool.cpp test/tools/test_evaluate_tool.cpp
+  test/tools/test_render_conditioning_tool.cpp)
 add_dependencies(test_tools complete_depth evaluate_depth render_conditioning make_synthetic_scene)
 
 catkin_add_gtest(test_vod_to_bag test/tools/test_vod_to_bag.cpp

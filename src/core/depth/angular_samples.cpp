@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace multimodal_nvs {
 namespace {
@@ -36,6 +37,17 @@ std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& 
   }
   if (dropped_non_finite != nullptr) *dropped_non_finite = dropped;
   return out;
+}
+
+AngularBox boundingBox(const std::vector<AngularSample>& samples) {
+  float az0 = std::numeric_limits<float>::infinity(), az1 = -az0, el0 = az0, el1 = -az0;
+  for (const AngularSample& s : samples) {
+    az0 = std::min(az0, s.azimuth_deg);
+    az1 = std::max(az1, s.azimuth_deg);
+    el0 = std::min(el0, s.elevation_deg);
+    el1 = std::max(el1, s.elevation_deg);
+  }
+  return {az0, az1, el0, el1};
 }
 
 std::vector<AngularSample> usableSamples(const std::vector<AngularSample>& samples) {

@@ -78,16 +78,11 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
     }
     return samples[a].azimuth_deg < samples[b].azimuth_deg;
   });
-  float az0 = std::numeric_limits<float>::infinity(), az1 = -az0, el0 = az0, el1 = -az0;
-  for (const AngularSample& s : samples) {
-    az0 = std::min(az0, s.azimuth_deg);
-    az1 = std::max(az1, s.azimuth_deg);
-    el0 = std::min(el0, s.elevation_deg);
-    el1 = std::max(el1, s.elevation_deg);
-  }
-  const int x = static_cast<int>(std::floor(az0)) - 2, y = static_cast<int>(std::floor(el0)) - 2;
-  cv::Subdiv2D subdiv(cv::Rect(x, y, static_cast<int>(std::ceil(az1)) + 2 - x,
-                               static_cast<int>(std::ceil(el1)) + 2 - y));
+  const AngularBox box = boundingBox(samples);
+  const int x = static_cast<int>(std::floor(box.az_min)) - 2;
+  const int y = static_cast<int>(std::floor(box.el_min)) - 2;
+  cv::Subdiv2D subdiv(cv::Rect(x, y, static_cast<int>(std::ceil(box.az_max)) + 2 - x,
+                               static_cast<int>(std::ceil(box.el_max)) + 2 - y));
   // Subdiv2D vertex id -> depth; a repeated direction returns the existing vertex: keep the
   // nearest return there.
   std::vector<double> vertex_depth;

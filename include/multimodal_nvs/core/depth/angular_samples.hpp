@@ -28,6 +28,14 @@ std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& 
 std::vector<Eigen::Vector3d> transformToCamera(const std::vector<Eigen::Vector3f>& points_sensor,
                                                const SensorToCamera& sensor_to_camera);
 
+/// An axis-aligned box in the angular domain (degrees).
+struct AngularBox {
+  float az_min, az_max, el_min, el_max;
+};
+
+/// The smallest box holding every sample's angles ({+inf, -inf, +inf, -inf} when there is none).
+AngularBox boundingBox(const std::vector<AngularSample>& samples);
+
 /// Samples with finite angles and a finite depth > 0, in their original order.
 std::vector<AngularSample> usableSamples(const std::vector<AngularSample>& samples);
 

@@ -5,13 +5,9 @@
 
 #include "multimodal_nvs/core/common/camera.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
 
 namespace multimodal_nvs {
-
-/// An axis-aligned box in the angular domain (degrees).
-struct AngularBox {
-  float az_min, az_max, el_min, el_max;
-};
 
 /// Azimuth/elevation of every grid pixel's ray, row-major, computed in float32 exactly as the
 /// reference does (normalised ray, atan2f, degrees). Depends only on intrinsics and grid, so a node

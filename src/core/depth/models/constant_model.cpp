@@ -30,8 +30,7 @@ void predictConstant(const std::vector<AngularSample>& all_samples, const PixelA
       depths.push_back(s.depth);
   }
   if (depths.empty()) {
-    out.mean.assign(n, std::numeric_limits<float>::quiet_NaN());
-    out.variance.assign(n, std::numeric_limits<float>::infinity());
+    setNoPrediction(n, out);
     return;
   }
   double sum = 0.0;

@@ -306,8 +306,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
                           double median_depth, ThreadPool& pool, PixelPredictions& out) {
   const GroundPriorParams& g = params.ground;
   const std::size_t n = static_cast<std::size_t>(angles.grid().size());
-  out.mean.assign(n, std::numeric_limits<float>::quiet_NaN());
-  out.variance.assign(n, std::numeric_limits<float>::infinity());
+  setNoPrediction(n, out);
 
   const std::vector<AngularTriangle> triangles = triangulateSamples(samples, angles);
   std::vector<DenseVertexInfo> info(triangles.size());

@@ -52,8 +52,7 @@ void predictIpBasic(const std::vector<AngularSample>& all_samples, const PixelAn
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
   const std::size_t n = static_cast<std::size_t>(grid.size());
-  out.mean.assign(n, std::numeric_limits<float>::quiet_NaN());
-  out.variance.assign(n, kNoPrediction);
+  setNoPrediction(n, out);
   const std::vector<AngularSample> samples = usableSamples(all_samples);
   if (samples.empty()) return;
   const PinholeIntrinsics& k = angles.intrinsics();

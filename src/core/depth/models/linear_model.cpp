@@ -17,8 +17,7 @@ void predictLinear(const std::vector<AngularSample>& samples, const PixelAngleGr
                    const DepthCompletionParams& /*params*/, ThreadPool& pool,
                    PixelPredictions& out) {
   const std::size_t n = static_cast<std::size_t>(angles.grid().size());
-  out.mean.assign(n, std::numeric_limits<float>::quiet_NaN());
-  out.variance.assign(n, std::numeric_limits<float>::infinity());
+  setNoPrediction(n, out);
   const std::vector<AngularTriangle> triangles = triangulateSamples(samples, angles);
   std::vector<std::uint8_t> filled;
   rasterizeTriangles(triangles, angles, pool, filled,

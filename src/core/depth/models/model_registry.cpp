@@ -20,51 +20,50 @@ GroundPlane groundPlane(const GroundPriorParams& g) {
   plane.height = g.camera_height;
   return plane;
 }
+
+/// A model that needs no neighbour sets (the baselines), or nullptr for the GP models.
+using BaselineModel = void (*)(const std::vector<AngularSample>&, const PixelAngleGrid&,
+                               const DepthCompletionParams&, ThreadPool&, PixelPredictions&);
+
+BaselineModel baselineModel(DepthModel model) {
+  switch (model) {
+    case DepthModel::kNearest:
+      return predictNearest;
+    case DepthModel::kLinear:
+      return predictLinear;
+    case DepthModel::kIpBasic:
+      return predictIpBasic;
+    case DepthModel::kConstant:
+      return predictConstant;
+    case DepthModel::kLocalGpMle:
+    case DepthModel::kKernel:
+    case DepthModel::kGroundGp:
+      break;
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 bool isBaseline(DepthModel model) {
-  switch (model) {
-    case DepthModel::kNearest:
-    case DepthModel::kLinear:
-    case DepthModel::kIpBasic:
-    case DepthModel::kConstant:
-      return true;
-    default:
-      return false;
-  }
+  return baselineModel(model) != nullptr;
 }
 
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
                      PixelPredictions& out) {
-  switch (params.model) {
-    case DepthModel::kNearest:
-      predictNearest(samples, angles, params, pool, out);
-      return 0;
-    case DepthModel::kLinear:
-      predictLinear(samples, angles, params, pool, out);
-      return 0;
-    case DepthModel::kIpBasic:
-      predictIpBasic(samples, angles, params, pool, out);
-      return 0;
-    case DepthModel::kConstant:
-      predictConstant(samples, angles, params, pool, out);
-      return 0;
-    case DepthModel::kGroundGp:
-      if (groundInputIsDense(samples, angles, params)) {
-        // Dense input needs no neighbour sets: the interpolating prior is the prediction.
-        predictGroundGpDense(samples, angles, params, groundPlane(params.ground),
-                             computeShift(DepthShift{}, samples), pool, out);
-        return 0;
-      }
-      break;
-    case DepthModel::kLocalGpMle:
-      if (params.max_neighbors > 0) {
-        return predictTiledLocalGp(samples, angles, params, shift, pool, out);
-      }
-      break;
-    case DepthModel::kKernel:
-      break;
+  if (const BaselineModel baseline = baselineModel(params.model)) {
+    baseline(samples, angles, params, pool, out);
+    return 0;
+  }
+  if (params.model == DepthModel::kGroundGp && groundInputIsDense(samples, angles, params)) {
+    // Dense input needs no neighbour sets: the interpolating prior is the prediction.
+    predictGroundGpDense(samples, angles, params, groundPlane(params.ground),
+                         computeShift(DepthShift{}, samples), pool, out);
+    return 0;
+  }
+  if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
+    return predictTiledLocalGp(samples, angles, params, shift, pool, out);
   }
   const NeighbourSets sets =
       NeighbourSets::build(samples, angles, static_cast<float>(params.radius_deg), pool);

@@ -121,26 +121,16 @@ void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAn
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
   const std::size_t n = static_cast<std::size_t>(grid.size());
-  out.mean.assign(n, std::numeric_limits<float>::quiet_NaN());
-  out.variance.assign(n, kNoPrediction);
+  setNoPrediction(n, out);
   const std::vector<AngularSample> samples = usableSamples(all_samples);
   if (samples.empty()) return;
 
   // Bins over the union of the samples' and the pixels' angular bounding boxes: every pixel lies
   // inside the binned area, which the ring-search stopping rule relies on.
-  float az0 = std::numeric_limits<float>::infinity(), az1 = -az0, el0 = az0, el1 = -az0;
-  for (const AngularSample& s : samples) {
-    az0 = std::min(az0, s.azimuth_deg);
-    az1 = std::max(az1, s.azimuth_deg);
-    el0 = std::min(el0, s.elevation_deg);
-    el1 = std::max(el1, s.elevation_deg);
-  }
-  const AngularBox image = angles.extent();
-  az0 = std::min(az0, image.az_min);
-  az1 = std::max(az1, image.az_max);
-  el0 = std::min(el0, image.el_min);
-  el1 = std::max(el1, image.el_max);
-  const AngularBins bins(samples, az0, az1, el0, el1);
+  const AngularBox box = boundingBox(samples), image = angles.extent();
+  const AngularBins bins(samples, std::min(box.az_min, image.az_min),
+                         std::max(box.az_max, image.az_max), std::min(box.el_min, image.el_min),
+                         std::max(box.el_max, image.el_max));
 
   constexpr int kBlock = 8;
   const int block_rows = (rows + kBlock - 1) / kBlock, block_cols = (cols + kBlock - 1) / kBlock;

@@ -1,8 +1,14 @@
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace multimodal_nvs {
+
+void setNoPrediction(std::size_t pixels, PixelPredictions& out) {
+  out.mean.assign(pixels, std::numeric_limits<float>::quiet_NaN());
+  out.variance.assign(pixels, kNoPrediction);
+}
 
 void fillPredictions(const PixelAngleGrid& angles, float mean, float variance, ThreadPool& pool,
                      PixelPredictions& out) {
