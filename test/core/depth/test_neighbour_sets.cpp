@@ -10,6 +10,7 @@
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/depth_shift.hpp"
+#include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/gp/local_gp.hpp"
 #include "multimodal_nvs/core/depth/gp/reference_arithmetic.hpp"
 #include "multimodal_nvs/core/depth/models/local_gp_model.hpp"

@@ -1,11 +1,11 @@
 // The per-pixel step of the local GP, kept in its own file because it is compiled with FMA
 // contraction allowed (cmake/core.cmake): unlike the angle grid and the length-scale search it
 // needs no bit-level agreement with the reference, and it is the hottest loop of the package.
+#include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <vector>
-
-#include "multimodal_nvs/core/depth/gp/local_gp.hpp"
 
 namespace multimodal_nvs {
 namespace {

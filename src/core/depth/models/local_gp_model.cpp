@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
 #include "multimodal_nvs/core/depth/gp/local_gp.hpp"
 #include "multimodal_nvs/core/depth/gp/reference_arithmetic.hpp"

@@ -11,6 +11,7 @@
 
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/gp/local_gp.hpp"
 #include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"

@@ -69,14 +69,6 @@ bool choleskyColumns(double* column_major, int n);
 /// Solves L x = b in place for a packed lower-triangular L.
 void forwardSubstitutePacked(const double* packed, int n, double* x);
 
-/// Posterior mean and variance at one pixel from a factorised set (the per-pixel step):
-/// k* = a^2 exp(-d^2 / 2l^2), w = L^-1 k*, mean = shift + w.beta, var = a^2 + sigma^2 - |w|^2 (>=
-/// 0).
-void predictFromFactor(const double* packed_factor, const double* beta, const float* azimuth,
-                       const float* elevation, int n, double length_scale,
-                       const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
-                       int pixels, double shift, float* mean_out, float* var_out);
-
 // ---------------------------------------------------------------------------------------------
 template <typename Objective>
 double goldenSectionMinimize(Objective&& f, double lo, double hi, double tol, int max_iter) {

@@ -1,0 +1,15 @@
+#pragma once
+// The GP's per-pixel step, the package's hottest loop (compiled with FMA: no parity needed here).
+#include "multimodal_nvs/core/depth/gp/local_gp.hpp"
+
+namespace multimodal_nvs {
+
+/// Posterior mean and variance at one pixel from a factorised set (the per-pixel step):
+/// k* = a^2 exp(-d^2 / 2l^2), w = L^-1 k*, mean = shift + w.beta, var = a^2 + sigma^2 - |w|^2 (>=
+/// 0).
+void predictFromFactor(const double* packed_factor, const double* beta, const float* azimuth,
+                       const float* elevation, int n, double length_scale,
+                       const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
+                       int pixels, double shift, float* mean_out, float* var_out);
+
+}  // namespace multimodal_nvs
