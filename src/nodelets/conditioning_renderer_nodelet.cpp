@@ -7,9 +7,6 @@
 // burst entry point (core/render/render_burst.hpp, as render_conditioning uses it).
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
-#include <image_transport/subscriber_filter.h>
-#include <message_filters/subscriber.h>
-#include <message_filters/time_synchronizer.h>
 #include <nodelet/nodelet.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -18,12 +15,12 @@
 #include <pluginlib/class_list_macros.hpp>
 
 #include <chrono>
-#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <optional>
 
 #include "conditioning_renderer_diagnostics.hpp"
+#include "conditioning_renderer_inputs.hpp"
 #include "conditioning_renderer_outputs.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/render/render_burst.hpp"
@@ -49,8 +46,6 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
  private:
   using Config = ConditioningRendererConfig;
   using Settings = ConditioningRendererSettings;
-  using Image = sensor_msgs::Image;
-  using Sync = message_filters::TimeSynchronizer<Image, Image, Image, sensor_msgs::CameraInfo>;
 
   void onInit() override;
   void connectCb();
@@ -77,9 +72,7 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   // Inputs (exact-time sync), subscribed only while an output has a subscriber or a preset burst
   // is exported.
   std::unique_ptr<image_transport::ImageTransport> it_;
-  image_transport::SubscriberFilter image_sub_, depth_sub_, mask_sub_;
-  message_filters::Subscriber<sensor_msgs::CameraInfo> info_sub_;
-  std::unique_ptr<Sync> sync_;
+  std::unique_ptr<ConditioningRendererInputs> inputs_;
 
   // Outputs. connect_mutex_ also guards their assignment: connect callbacks may fire meanwhile.
   std::mutex connect_mutex_;
@@ -121,18 +114,14 @@ void ConditioningRendererNodelet::onInit() {
   // mapping and subscribes the inputs if the settings alone want them (an exported preset).
   settings_.set(rendererSettingsFromConfig(Config::__getDefault__()));
   it_ = std::make_unique<image_transport::ImageTransport>(nh);
-  sync_ = std::make_unique<Sync>(image_sub_, depth_sub_, mask_sub_, info_sub_, queue_size_);
-  sync_->registerCallback(boost::bind(&ConditioningRendererNodelet::onFrame, this,
-                                      boost::placeholders::_1, boost::placeholders::_2,
-                                      boost::placeholders::_3, boost::placeholders::_4));
+  inputs_ = std::make_unique<ConditioningRendererInputs>(
+      queue_size_,
+      boost::bind(&ConditioningRendererNodelet::onFrame, this, boost::placeholders::_1,
+                  boost::placeholders::_2, boost::placeholders::_3, boost::placeholders::_4));
   {
-    image_transport::SubscriberStatusCallback image_cb =
-        boost::bind(&ConditioningRendererNodelet::connectCb, this);
-    ros::SubscriberStatusCallback info_cb =
-        boost::bind(&ConditioningRendererNodelet::connectCb, this);
     std::lock_guard<std::mutex> lock(connect_mutex_);
-    outputs_.advertise(*it_, static_cast<uint32_t>(std::max(1, publisher_queue_size_)), image_cb,
-                       info_cb);
+    outputs_.advertise(*it_, static_cast<uint32_t>(std::max(1, publisher_queue_size_)),
+                       [this] { connectCb(); });
     advertised_ = true;
   }
   reconfigure_server_ =
@@ -150,21 +139,8 @@ void ConditioningRendererNodelet::connectCb() {
   std::lock_guard<std::mutex> lock(connect_mutex_);
   if (!advertised_) return;
   const bool wanted = presetExportWanted(settings_.get()) || outputs_.anySubscribed();
-  if (wanted && !subscribed_) {
-    ros::NodeHandle& nh = getNodeHandle();
-    // One message per topic waits for the frame callback (the newest wins); pairing slack lives
-    // in the synchronizer's own queue (queue_size).
-    image_transport::TransportHints hints("raw", ros::TransportHints(), getPrivateNodeHandle());
-    image_sub_.subscribe(*it_, "image", 1, hints);
-    depth_sub_.subscribe(*it_, "depth/image", 1, hints);
-    mask_sub_.subscribe(*it_, "depth/mask", 1, hints);
-    info_sub_.subscribe(nh, "depth/camera_info", 1);
-  } else if (!wanted && subscribed_) {
-    image_sub_.unsubscribe();
-    depth_sub_.unsubscribe();
-    mask_sub_.unsubscribe();
-    info_sub_.unsubscribe();
-  }
+  if (wanted && !subscribed_) inputs_->subscribe(*it_, getNodeHandle(), getPrivateNodeHandle());
+  if (!wanted && subscribed_) inputs_->unsubscribe();
   subscribed_ = wanted;
   diagnostics_.setSubscribed(wanted);
 }
@@ -268,25 +244,20 @@ bool ConditioningRendererNodelet::renderBurst(const Settings& settings, std::str
     report = burstUnavailableReason(keyframe_.has_value());
     return false;
   }
-  std::string folder;
-  try {
-    folder = renderPresetBurst(
-        splatter_.forThreads(settings.threads), *keyframe_, *cloud, settings,
-        [this, &settings](const RenderedFrame& frame, const TargetCamera& camera,
-                          const std_msgs::Header& header) {
-          outputs_.publish(frame, camera.intrinsics, settings.renderSize(), header);
-        },
-        [this](const std::string& warning) { NODELET_WARN_ONCE("%s", warning.c_str()); });
-  } catch (const InputError& e) {
-    report = std::string("preset burst failed: ") + e.what();
-    return false;
-  } catch (const std::filesystem::filesystem_error& e) {
-    report = std::string("GEN3C export failed: ") + e.what();
+  const PresetBurstResult burst = renderPresetBurst(
+      splatter_.forThreads(settings.threads), *keyframe_, *cloud, settings,
+      [this, &settings](const RenderedFrame& frame, const TargetCamera& camera,
+                        const std_msgs::Header& header) {
+        outputs_.publish(frame, camera.intrinsics, settings.renderSize(), header);
+      },
+      [this](const std::string& warning) { NODELET_WARN_ONCE("%s", warning.c_str()); });
+  if (!burst.ok) {
+    report = burst.error;
     return false;
   }
   const double burst_ms = millisecondsSince(start);
   diagnostics_.countBurst(settings.num_frames, burst_ms);
-  report = burstReport(settings, burst_ms, folder);
+  report = burstReport(settings, burst_ms, burst.gen3c_folder);
   NODELET_INFO("%s", report.c_str());
   return true;
 }

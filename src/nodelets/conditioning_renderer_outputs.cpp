@@ -7,15 +7,18 @@ namespace multimodal_nvs {
 
 namespace rc = ros_conversions;
 
-void ConditioningRendererOutputs::advertise(
-    image_transport::ImageTransport& it, uint32_t queue_size,
-    const image_transport::SubscriberStatusCallback& on_connect,
-    const ros::SubscriberStatusCallback& on_info_connect) {
-  image_ = it.advertiseCamera("conditioning/image", queue_size, on_connect, on_connect,
-                              on_info_connect, on_info_connect);
-  mask_ = it.advertise("conditioning/mask", queue_size, on_connect, on_connect);
-  depth_ = it.advertise("conditioning/depth", queue_size, on_connect, on_connect);
-  preview_ = it.advertise("conditioning/preview", queue_size, on_connect, on_connect);
+void ConditioningRendererOutputs::advertise(image_transport::ImageTransport& it,
+                                            uint32_t queue_size,
+                                            const boost::function<void()>& on_connect) {
+  const image_transport::SubscriberStatusCallback image_cb =
+      [on_connect](const image_transport::SingleSubscriberPublisher&) { on_connect(); };
+  const ros::SubscriberStatusCallback info_cb =
+      [on_connect](const ros::SingleSubscriberPublisher&) { on_connect(); };
+  image_ =
+      it.advertiseCamera("conditioning/image", queue_size, image_cb, image_cb, info_cb, info_cb);
+  mask_ = it.advertise("conditioning/mask", queue_size, image_cb, image_cb);
+  depth_ = it.advertise("conditioning/depth", queue_size, image_cb, image_cb);
+  preview_ = it.advertise("conditioning/preview", queue_size, image_cb, image_cb);
 }
 
 bool ConditioningRendererOutputs::anySubscribed() const {

@@ -4,6 +4,8 @@
 #include <image_transport/camera_publisher.h>
 #include <image_transport/image_transport.h>
 
+#include <boost/function.hpp>
+
 #include "multimodal_nvs/core/common/camera.hpp"
 #include "multimodal_nvs/core/render/splatting.hpp"
 
@@ -12,10 +14,9 @@ namespace multimodal_nvs {
 class ConditioningRendererOutputs {
  public:
   /// conditioning/{image, camera_info, mask, depth, preview}; `on_connect` runs when a subscriber
-  /// comes or goes.
+  /// of any of them comes or goes.
   void advertise(image_transport::ImageTransport& it, uint32_t queue_size,
-                 const image_transport::SubscriberStatusCallback& on_connect,
-                 const ros::SubscriberStatusCallback& on_info_connect);
+                 const boost::function<void()>& on_connect);
   bool anySubscribed() const;
   void publish(const RenderedFrame& frame, const PinholeIntrinsics& intrinsics,
                const ImageSize& size, const std_msgs::Header& header);

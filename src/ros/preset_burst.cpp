@@ -1,7 +1,10 @@
 #include "multimodal_nvs/ros/preset_burst.hpp"
 
 #include <cstdio>
+#include <filesystem>
 #include <optional>
+
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 
@@ -38,11 +41,13 @@ std::string burstReport(const ConditioningRendererSettings& settings, double bur
   return report;
 }
 
-std::string renderPresetBurst(PointSplatter& splatter, const RendererKeyframe& keyframe,
-                              const ColoredCloud& cloud,
-                              const ConditioningRendererSettings& settings,
-                              const BurstPublisher& publish,
-                              const std::function<void(const std::string&)>& warn) {
+namespace {
+
+/// The burst; throws InputError (trajectory, rendering, export) and filesystem_error (export).
+std::string renderAndExport(PointSplatter& splatter, const RendererKeyframe& keyframe,
+                            const ColoredCloud& cloud, const ConditioningRendererSettings& settings,
+                            const BurstPublisher& publish,
+                            const std::function<void(const std::string&)>& warn) {
   const ros_conversions::RendererInput& key = keyframe.input();
   const ImageSize size = settings.renderSize();
   const int n = settings.num_frames;
@@ -67,6 +72,25 @@ std::string renderPresetBurst(PointSplatter& splatter, const RendererKeyframe& k
   if (!gen3c) return {};
   gen3c->finish();
   return gen3c->folder();
+}
+
+}  // namespace
+
+PresetBurstResult renderPresetBurst(PointSplatter& splatter, const RendererKeyframe& keyframe,
+                                    const ColoredCloud& cloud,
+                                    const ConditioningRendererSettings& settings,
+                                    const BurstPublisher& publish,
+                                    const std::function<void(const std::string&)>& warn) {
+  PresetBurstResult result;
+  try {
+    result.gen3c_folder = renderAndExport(splatter, keyframe, cloud, settings, publish, warn);
+    result.ok = true;
+  } catch (const InputError& e) {
+    result.error = std::string("preset burst failed: ") + e.what();
+  } catch (const std::filesystem::filesystem_error& e) {
+    result.error = std::string("GEN3C export failed: ") + e.what();
+  }
+  return result;
 }
 
 }  // namespace multimodal_nvs

@@ -82,7 +82,7 @@ TEST(PresetBurst, PublishesEveryFrameInOrderAndExportsOneFolder) {
   for (const auto& s : {settings, exported}) {
     Published out;
     std::vector<std::string> warnings;
-    const std::string folder = mm::renderPresetBurst(
+    const mm::PresetBurstResult result = mm::renderPresetBurst(
         splatter, *keyframe, keyframe->cloud(), s,
         [&](const mm::RenderedFrame& frame, const mm::TargetCamera& camera,
             const std_msgs::Header& header) {
@@ -93,6 +93,8 @@ TEST(PresetBurst, PublishesEveryFrameInOrderAndExportsOneFolder) {
           out.first_column_x.push_back(camera.world_to_camera(0, 3));
         },
         [&](const std::string& w) { warnings.push_back(w); });
+    ASSERT_TRUE(result.ok) << result.error;
+    const std::string& folder = result.gen3c_folder;
     ASSERT_EQ(out.count, 5);
     for (int i = 0; i < 5; ++i) {
       EXPECT_EQ(out.stamps[std::size_t(i)], ros::Time(1700000000, 5) + ros::Duration(i / 10.0));
@@ -113,4 +115,33 @@ TEST(PresetBurst, PublishesEveryFrameInOrderAndExportsOneFolder) {
     }
   }
   fs::remove_all(exported.export_dir);
+}
+
+TEST(PresetBurst, FailuresAreReportedNotThrown) {
+  auto settings = burstSettings();
+  std::optional<mm::RendererKeyframe> keyframe;
+  ASSERT_TRUE(
+      mm::RendererKeyframe::make(keyframeInput(), Eigen::Matrix4d::Identity(), settings, keyframe)
+          .ok());
+  mm::PointSplatter splatter(1);
+  int published = 0;
+  const auto count = [&](const mm::RenderedFrame&, const mm::TargetCamera&,
+                         const std_msgs::Header&) { ++published; };
+  const auto ignore = [](const std::string&) {};
+  // Zooming in by more than the field of view: no trajectory, nothing published.
+  settings.preset = mm::TrajectoryPreset::kZoomIn;
+  settings.magnitude = 179.0;
+  mm::PresetBurstResult result =
+      mm::renderPresetBurst(splatter, *keyframe, keyframe->cloud(), settings, count, ignore);
+  EXPECT_FALSE(result.ok);
+  EXPECT_EQ(result.error.rfind("preset burst failed: ", 0), 0u) << result.error;
+  EXPECT_EQ(published, 0);
+  // An export directory that cannot be created.
+  settings = burstSettings();
+  settings.export_dir = "/proc/mmnvs_no_such_dir";
+  result = mm::renderPresetBurst(splatter, *keyframe, keyframe->cloud(), settings, count, ignore);
+  EXPECT_FALSE(result.ok);
+  EXPECT_FALSE(result.error.empty());
+  EXPECT_TRUE(result.gen3c_folder.empty());
+  EXPECT_EQ(published, 0);
 }

@@ -32,15 +32,21 @@ std::string burstReport(const ConditioningRendererSettings& settings, double bur
 using BurstPublisher = std::function<void(const RenderedFrame& frame, const TargetCamera& camera,
                                           const std_msgs::Header& header)>;
 
+struct PresetBurstResult {
+  bool ok = false;
+  std::string gen3c_folder;  ///< where the export went; empty without export_dir
+  std::string error;         ///< why the burst failed, when !ok
+};
+
 /// Renders settings.preset from `keyframe` (its `cloud` for the settings), hands every frame in
 /// order to `publish` and, with export_dir, writes the GEN3C folder gen3cExportFolder(export_dir,
 /// keyframe stamp) under a temporary name renamed when complete; `warn` gets gen3cSizeWarning's
-/// text first when that export is not GEN3C's size. Returns the folder, empty without export.
-/// Throws InputError and std::filesystem::filesystem_error.
-std::string renderPresetBurst(PointSplatter& splatter, const RendererKeyframe& keyframe,
-                              const ColoredCloud& cloud,
-                              const ConditioningRendererSettings& settings,
-                              const BurstPublisher& publish,
-                              const std::function<void(const std::string&)>& warn);
+/// text first when that export is not GEN3C's size. A bad trajectory or a failed export is the
+/// result's error; exceptions of `publish` propagate.
+PresetBurstResult renderPresetBurst(PointSplatter& splatter, const RendererKeyframe& keyframe,
+                                    const ColoredCloud& cloud,
+                                    const ConditioningRendererSettings& settings,
+                                    const BurstPublisher& publish,
+                                    const std::function<void(const std::string&)>& warn);
 
 }  // namespace multimodal_nvs
