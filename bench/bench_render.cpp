@@ -9,6 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "multimodal_nvs/core/render/backprojection.hpp"
+#include "multimodal_nvs/core/render/render_burst.hpp"
 #include "multimodal_nvs/core/render/splatting.hpp"
 #include "multimodal_nvs/core/render/trajectory.hpp"
 
@@ -66,13 +67,11 @@ void renderAll(benchmark::State& state, mm::SplatMode mode) {
   mm::PointSplatter splatter(static_cast<int>(state.range(0)));
   mm::SplatParams params;
   params.mode = mode;
-  std::vector<mm::RenderedFrame> frames;
-  const int chunk = 2 * splatter.threads();  // as render_conditioning does
   for (auto _ : state) {
-    for (int first = 0; first < 121; first += chunk) {
-      splatter.render(cloud, traj, first, std::min(chunk, 121 - first), params, frames);
-      benchmark::DoNotOptimize(frames.front().bgr.data);
-    }
+    mm::renderBurstChunks(splatter, cloud, traj, params,
+                          [](int, const std::vector<mm::RenderedFrame>& frames) {
+                            benchmark::DoNotOptimize(frames.front().bgr.data);
+                          });
   }
   state.counters["points"] = static_cast<double>(cloud.size());
   state.counters["threads"] = splatter.threads();

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <sstream>
 
 #include "message_helpers.hpp"
@@ -49,15 +50,13 @@ ConditioningRendererSettings rendererSettingsFromConfig(const ConditioningRender
   if (config.render_height < 1 || config.render_width < 1) {
     throw InputError("parameters render_height and render_width must be positive");
   }
-  if (config.resize_depth != "auto" && config.resize_depth != "yes" &&
-      config.resize_depth != "no") {
+  const std::optional<DepthResize> resize = parseDepthResize(config.resize_depth);
+  if (!resize) {
     throw InputError("parameter resize_depth: '" + config.resize_depth +
                      "' is not auto, yes or no");
   }
-  s.resize_depth = config.resize_depth;
-  // As the tool's --resize-depth: auto resamples for gen3c (GEN3C's own preparation) only.
-  s.backprojection.resize_to_render =
-      s.resize_depth == "yes" || (s.resize_depth == "auto" && s.splat.mode == SplatMode::kGen3c);
+  s.resize_depth = *resize;
+  s.backprojection.resize_to_render = resizesDepthToRender(s.resize_depth, s.splat.mode);
   s.backprojection.render_size = ImageSize{config.render_height, config.render_width};
   if (!(config.max_depth >= 0.0) || !(config.edge_threshold >= 0.0)) {
     throw InputError("parameters max_depth and edge_threshold must be >= 0");
@@ -82,7 +81,7 @@ void writeRendererSettingsToConfig(const ConditioningRendererSettings& s,
   config.splat = toString(s.splat.mode);
   config.render_height = s.backprojection.render_size.height;
   config.render_width = s.backprojection.render_size.width;
-  config.resize_depth = s.resize_depth;
+  config.resize_depth = toString(s.resize_depth);
   config.max_depth = s.backprojection.max_depth;
   config.edge_threshold = s.backprojection.edge_threshold;
   config.threads = s.threads;
@@ -91,10 +90,8 @@ void writeRendererSettingsToConfig(const ConditioningRendererSettings& s,
 BackprojectionParams keyframeBackprojection(const ConditioningRendererSettings& settings,
                                             const ImageSize& grid) {
   BackprojectionParams params = settings.backprojection;
-  if (settings.resize_depth == "auto" && params.resize_to_render) {
-    params.resize_to_render =
-        grid.height >= params.render_size.height && grid.width >= params.render_size.width;
-  }
+  params.resize_to_render =
+      resizesDepthToRender(settings.resize_depth, settings.splat.mode, grid, params.render_size);
   return params;
 }
 

@@ -13,6 +13,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <optional>
 #include <sstream>
 
 #include "common/cli.hpp"
@@ -26,6 +27,7 @@
 #include "multimodal_nvs/core/render/backprojection.hpp"
 #include "multimodal_nvs/core/render/gen3c_export.hpp"
 #include "multimodal_nvs/core/render/preview.hpp"
+#include "multimodal_nvs/core/render/render_burst.hpp"
 #include "multimodal_nvs/core/render/splatting.hpp"
 #include "multimodal_nvs/core/render/trajectory.hpp"
 
@@ -329,12 +331,10 @@ int run(int argc, char** argv) {
   }
 
   mm::BackprojectionParams prep;
-  const std::string resize = args.str("resize-depth", "auto");
-  if (resize != "auto" && resize != "yes" && resize != "no") {
-    throw mm::cli::UsageError("--resize-depth must be auto, yes or no");
-  }
-  prep.resize_to_render =
-      resize == "yes" || (resize == "auto" && splat.mode == mm::SplatMode::kGen3c);
+  const std::optional<mm::DepthResize> resize =
+      mm::parseDepthResize(args.str("resize-depth", "auto"));
+  if (!resize) throw mm::cli::UsageError("--resize-depth must be auto, yes or no");
+  prep.resize_to_render = mm::resizesDepthToRender(*resize, splat.mode);
   prep.render_size = render_size;
   prep.max_depth = static_cast<float>(args.number("max-depth", 100.0));
   prep.edge_threshold = static_cast<float>(args.number("edge-threshold", 0.05));
@@ -382,17 +382,13 @@ int run(int argc, char** argv) {
   cv::VideoWriter video =
       openPreviewVideo(output, args.number("fps", 24.0),
                        cv::Size(render_size.width, render_size.height), video_path, video_codec);
-  std::unique_ptr<mm::Gen3cExportWriter> gen3c;
+  std::optional<mm::Gen3cBurstExport> gen3c;
   if (args.has("gen3c")) {
-    if (num_frames != mm::kGen3cFrames || render_size.height != mm::kGen3cHeight ||
-        render_size.width != mm::kGen3cWidth) {
-      std::cerr << "render_conditioning: warning: GEN3C expects 121 frames at 704x1280; the export "
-                   "uses the requested "
-                << num_frames << " frames at " << render_size.height << "x" << render_size.width
-                << "\n";
+    if (const auto warning = mm::gen3cSizeWarning(num_frames, render_size)) {
+      std::cerr << "render_conditioning: warning: " << *warning << "\n";
     }
-    gen3c = std::make_unique<mm::Gen3cExportWriter>(output + "/gen3c", num_frames, render_size);
-    mm::writeGen3cCompanions(output + "/gen3c", image, num_frames, render_size);
+    gen3c.emplace(output + "/gen3c", image, num_frames, render_size,
+                  mm::Gen3cFolderWrite::kInPlace);
   }
 
   // Ground truth per output frame index (empty where there is none).
@@ -404,52 +400,47 @@ int run(int argc, char** argv) {
   mm::PointSplatter splatter(args.integer("threads", 0));
   mm::ThreadPool io_pool(splatter.threads());
   std::vector<FrameMetrics> metrics;
-  std::vector<mm::RenderedFrame> frames;
-  double render_ms = 0.0;
   double min_coverage = 1.0;
-  // Chunks keep memory bounded (a gen3c frame holds ~20 MB) while both cores stay busy.
-  const int chunk = 2 * splatter.threads();
   const auto t_all = std::chrono::steady_clock::now();
-  for (int first = 0; first < num_frames; first += chunk) {
-    const int count = std::min(chunk, num_frames - first);
-    const auto t0 = std::chrono::steady_clock::now();
-    splatter.render(cloud, trajectory, first, count, splat, frames);
-    render_ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    std::vector<cv::Mat> previews(static_cast<std::size_t>(count));
-    std::vector<FrameMetrics> chunk_metrics(static_cast<std::size_t>(count));
-    io_pool.parallelFor(count, [&](long long i, int) {
-      const int index = first + static_cast<int>(i);
-      const mm::RenderedFrame& f = frames[static_cast<std::size_t>(i)];
-      cv::Mat preview = mm::fillHolesPushPull(f.bgr, f.mask);
-      const std::string& gt_path = gt_of_frame[static_cast<std::size_t>(index)];
-      if (!gt_path.empty()) {
-        cv::Mat gt;
-        cv::resize(readImage(gt_path), gt, preview.size(), 0, 0, cv::INTER_LINEAR);
-        FrameMetrics& m = chunk_metrics[static_cast<std::size_t>(i)];
-        m.frame = index;
-        m.gt = gt_path;
-        m.psnr = mm::psnr(preview, gt);
-        m.ssim = mm::ssim(preview, gt);
-        m.covered_psnr = mm::coveredPsnr(f.bgr, gt, f.mask);
-        m.coverage = mm::coverage(f.mask);
-      }
-      mm::drawPreviewLabel(preview);
-      writePng(output + "/frames/" + frameName(index) + ".png", f.bgr);
-      writePng(output + "/masks/" + frameName(index) + ".png", f.mask);
-      writePng(output + "/preview/" + frameName(index) + ".png", preview);
-      previews[static_cast<std::size_t>(i)] = preview;
-    });
-    for (int i = 0; i < count; ++i) {
-      const mm::RenderedFrame& f = frames[static_cast<std::size_t>(i)];
-      min_coverage = std::min(min_coverage, mm::coverage(f.mask));
-      if (video.isOpened()) video.write(previews[static_cast<std::size_t>(i)]);
-      if (gen3c) gen3c->append(f);
-      if (!gt_of_frame[static_cast<std::size_t>(first + i)].empty()) {
-        metrics.push_back(chunk_metrics[static_cast<std::size_t>(i)]);
-      }
-    }
-  }
+  // A chunk at a time: its PNGs and metrics in parallel, then video and export in frame order.
+  const mm::BurstStats stats = mm::renderBurstChunks(
+      splatter, cloud, trajectory, splat,
+      [&](int first, const std::vector<mm::RenderedFrame>& frames) {
+        const int count = static_cast<int>(frames.size());
+        std::vector<cv::Mat> previews(static_cast<std::size_t>(count));
+        std::vector<FrameMetrics> chunk_metrics(static_cast<std::size_t>(count));
+        io_pool.parallelFor(count, [&](long long i, int) {
+          const int index = first + static_cast<int>(i);
+          const mm::RenderedFrame& f = frames[static_cast<std::size_t>(i)];
+          cv::Mat preview = mm::fillHolesPushPull(f.bgr, f.mask);
+          const std::string& gt_path = gt_of_frame[static_cast<std::size_t>(index)];
+          if (!gt_path.empty()) {
+            cv::Mat gt;
+            cv::resize(readImage(gt_path), gt, preview.size(), 0, 0, cv::INTER_LINEAR);
+            FrameMetrics& m = chunk_metrics[static_cast<std::size_t>(i)];
+            m.frame = index;
+            m.gt = gt_path;
+            m.psnr = mm::psnr(preview, gt);
+            m.ssim = mm::ssim(preview, gt);
+            m.covered_psnr = mm::coveredPsnr(f.bgr, gt, f.mask);
+            m.coverage = mm::coverage(f.mask);
+          }
+          mm::drawPreviewLabel(preview);
+          writePng(output + "/frames/" + frameName(index) + ".png", f.bgr);
+          writePng(output + "/masks/" + frameName(index) + ".png", f.mask);
+          writePng(output + "/preview/" + frameName(index) + ".png", preview);
+          previews[static_cast<std::size_t>(i)] = preview;
+        });
+        for (int i = 0; i < count; ++i) {
+          const mm::RenderedFrame& f = frames[static_cast<std::size_t>(i)];
+          min_coverage = std::min(min_coverage, mm::coverage(f.mask));
+          if (video.isOpened()) video.write(previews[static_cast<std::size_t>(i)]);
+          if (gen3c) gen3c->append(f);
+          if (!gt_of_frame[static_cast<std::size_t>(first + i)].empty()) {
+            metrics.push_back(chunk_metrics[static_cast<std::size_t>(i)]);
+          }
+        }
+      });
   video.release();
   if (gen3c) gen3c->finish();
   if (!metrics.empty())
@@ -468,7 +459,8 @@ int run(int argc, char** argv) {
        << "\", \"points\": " << cloud.size() << ", \"depth_stride\": " << stride
        << ", \"resized_to_render\": " << (prep.resize_to_render ? "true" : "false")
        << ", \"threads\": " << splatter.threads() << ", \"cloud_ms\": " << jsonNumber(cloud_ms)
-       << ", \"render_ms\": " << jsonNumber(render_ms) << ", \"total_ms\": " << jsonNumber(total_ms)
+       << ", \"render_ms\": " << jsonNumber(stats.render_ms)
+       << ", \"total_ms\": " << jsonNumber(total_ms)
        << ", \"min_coverage\": " << jsonNumber(min_coverage) << ", \"video\": "
        << (video_path.empty() ? "null" : "\"" + mm::cli::jsonEscape(video_path) + "\"")
        << ", \"video_codec\": " << (video_codec.empty() ? "null" : "\"" + video_codec + "\"")

@@ -13,6 +13,7 @@
 
 #include "multimodal_nvs/core/common/camera.hpp"
 #include "multimodal_nvs/core/render/backprojection.hpp"
+#include "multimodal_nvs/core/render/render_burst.hpp"
 #include "multimodal_nvs/core/render/splatting.hpp"
 #include "multimodal_nvs/core/render/trajectory.hpp"
 #include "multimodal_nvs/ros/conversions.hpp"
@@ -31,10 +32,10 @@ struct ConditioningRendererSettings {
   /// Seconds of header time between automatic keyframes; 0: only the first frame and ~set_keyframe.
   double keyframe_interval = 0.0;
   SplatParams splat;
-  /// "auto" | "yes" | "no", as the tool's --resize-depth. backprojection.resize_to_render holds the
-  /// choice for a depth grid at least as large as the render size; keyframeBackprojection()
-  /// resolves it for the actual grid.
-  std::string resize_depth = "auto";
+  /// As the tool's --resize-depth. backprojection.resize_to_render holds the choice for a depth
+  /// grid at least as large as the render size; keyframeBackprojection() resolves it for the actual
+  /// grid.
+  DepthResize resize_depth = DepthResize::kAuto;
   /// Holds the render size (backprojection.render_size) with the depth preparation.
   BackprojectionParams backprojection;
   TrajectoryPreset preset = TrajectoryPreset::kForward;
@@ -55,12 +56,8 @@ ConditioningRendererSettings rendererSettingsFromConfig(const ConditioningRender
 void writeRendererSettingsToConfig(const ConditioningRendererSettings& settings,
                                    ConditioningRendererConfig& config);
 
-/// The depth preparation for a keyframe whose depth grid is `grid`. "auto" resamples to the render
-/// size for gen3c only when the grid is at least the render size on both axes, as GEN3C's own
-/// input is (1216x1936 -> 704x1280). A smaller grid (the depth nodelet's stride 2 gives 608x968)
-/// is lifted one point per grid pixel instead: its nearest-index scatter would leave empty rows
-/// and columns, which the depth-edge filter (zero-padded 5x5 window) reads as edges, removing
-/// nearly every point. "yes" and "no" are taken as they are.
+/// The depth preparation for a keyframe whose depth grid is `grid`: resize_to_render by the core's
+/// rule for a known grid (resizesDepthToRender in core/render/render_burst.hpp).
 BackprojectionParams keyframeBackprojection(const ConditioningRendererSettings& settings,
                                             const ImageSize& grid);
 

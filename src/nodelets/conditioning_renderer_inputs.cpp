@@ -1,0 +1,30 @@
+#include "conditioning_renderer_inputs.hpp"
+
+#include <boost/bind/bind.hpp>
+
+namespace multimodal_nvs {
+
+ConditioningRendererInputs::ConditioningRendererInputs(int queue_size, const Callback& on_set)
+    : sync_(std::make_unique<Sync>(image_, depth_, mask_, info_, queue_size)) {
+  // bind, not on_set itself: the synchronizer calls with nine arguments, the last five NullType.
+  sync_->registerCallback(boost::bind(on_set, boost::placeholders::_1, boost::placeholders::_2,
+                                      boost::placeholders::_3, boost::placeholders::_4));
+}
+
+void ConditioningRendererInputs::subscribe(image_transport::ImageTransport& it, ros::NodeHandle& nh,
+                                           const ros::NodeHandle& private_nh) {
+  image_transport::TransportHints hints("raw", ros::TransportHints(), private_nh);
+  image_.subscribe(it, "image", 1, hints);
+  depth_.subscribe(it, "depth/image", 1, hints);
+  mask_.subscribe(it, "depth/mask", 1, hints);
+  info_.subscribe(nh, "depth/camera_info", 1);
+}
+
+void ConditioningRendererInputs::unsubscribe() {
+  image_.unsubscribe();
+  depth_.unsubscribe();
+  mask_.unsubscribe();
+  info_.unsubscribe();
+}
+
+}  // namespace multimodal_nvs
