@@ -2,10 +2,11 @@
 # `make bench`: every benchmark of the package, medians only. Usage: bench/run_benchmarks.sh [BUILD_DIR]
 #   1. each Google Benchmark binary built from bench/*.cpp, BENCH_REPETITIONS runs per case
 #      (default 5); prints one line per case with the median real and CPU time;
-#   2. the node latency harness (bench/ros/bench_depth_node.sh) at stride 1 and 2, which prints
-#      the median node latency, end-to-end latency and compute time of 150 sets at 15 Hz.
+#   2. the node latency harnesses: bench/ros/bench_depth_node.sh at stride 1 and 2 (median node
+#      latency, end-to-end latency and compute time of 150 sets at 15 Hz) and
+#      bench/ros/bench_renderer.sh at stride 2 (median render, callback and end-to-end times).
 # Cases on ../shared/data (MMNVS_DATA_DIR) report "data not found" instead of a time when the data
-# is missing; BENCH_NODE=0 skips the node harness.
+# is missing; BENCH_NODE=0 skips the node harnesses.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${1:-build}
@@ -42,5 +43,7 @@ done
 if [[ "${BENCH_NODE:-1}" != 0 ]]; then
   echo "[bench] bench_depth_node: the standalone node fed VoD 08350 at 15 Hz, stride 1 and 2"
   bench/ros/bench_depth_node.sh "$BUILD_DIR" 1 2 || { echo "[bench] bench_depth_node FAILED" >&2; status=1; }
+  echo "[bench] bench_renderer: the standalone renderer in tf mode, 1216x1936 camera at 5 Hz"
+  bench/ros/bench_renderer.sh "$BUILD_DIR" 2 || { echo "[bench] bench_renderer FAILED" >&2; status=1; }
 fi
 exit $status

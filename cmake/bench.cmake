@@ -19,7 +19,7 @@ add_executable(bench_depth_node bench/ros/bench_depth_node.cpp)
 target_link_libraries(bench_depth_node multimodal_nvs_ros)
 add_dependencies(bench_depth_node ${PROJECT_NAME}_generate_messages_cpp)
 
-# Latency of a running renderer in tf mode (built on request: make bench_renderer; see its header).
-add_executable(bench_renderer EXCLUDE_FROM_ALL bench/ros/bench_renderer.cpp)
+# Latency of the running renderer in tf mode: bench/ros/bench_renderer.sh drives it.
+add_executable(bench_renderer bench/ros/bench_renderer.cpp)
 target_include_directories(bench_renderer SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
 target_link_libraries(bench_renderer ${catkin_LIBRARIES} ${OpenCV_LIBS})
