@@ -48,8 +48,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
     diagnostics_.start(nh, pnh, getName());
 
-    // The .cfg defaults first, then whatever the parameter server (YAML) holds, through one
-    // mapping.
+    // The .cfg defaults, then what the parameter server (YAML) holds, through one mapping.
     settings_.set(settingsFromConfig(Config::__getDefault__()));
     reconfigure_server_ =
         std::make_unique<dynamic_reconfigure::Server<Config>>(reconfigure_mutex_, pnh);

@@ -66,8 +66,8 @@ class InputTimeline {
  public:
   /// What to do with a set's stamp.
   struct Admission {
-    /// The stamps went back by `back` or more than StampOrder's restart gap: a restarted stream
-    /// (a bag replayed without --clock). The set is processed; the node starts over first.
+    /// The stamps went back by `back`, at least StampOrder's restart gap: a restarted stream (a
+    /// bag replayed without --clock). The set is processed; the node starts over first.
     bool restarted = false;
     ros::Duration back;
     /// kStampNotNewer for a repeated or slightly reordered stamp (drop the set), ok otherwise.
