@@ -2,8 +2,10 @@
 find_package(rostest REQUIRED)
 find_package(roslaunch REQUIRED)
 
-# Conversions and the Config <-> params mapping: plain gtest, no master.
-catkin_add_gtest(test_ros_conversions test/ros/test_ros_conversions.cpp)
+# Conversions, the Config <-> params mapping and the nodelet's input policies: plain gtest, no
+# master.
+catkin_add_gtest(test_ros_conversions test/ros/test_ros_conversions.cpp
+  test/ros/test_depth_frame.cpp test/ros/test_frame_synchronizer.cpp)
 target_link_libraries(test_ros_conversions multimodal_nvs_ros)
 
 # Synthetic-scene input for the rate tests (a test helper, not installed).

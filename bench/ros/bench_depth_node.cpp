@@ -3,6 +3,7 @@
 // depth/image received here), the node's own latency (receipt -> publish, from depth/stats), its
 // compute time, and how many input sets produced no output. Driven by scripts/bench_depth_node.sh;
 // not a test.
+#include <multimodal_nvs/DepthCompletionStats.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
@@ -22,9 +23,6 @@
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
-// Only I/O headers of the core: its DepthCompletionStats struct must stay out of sight of the
-// generated message of the same name.
-#include <multimodal_nvs/DepthCompletionStats.h>
 
 namespace mm = multimodal_nvs;
 using Clock = std::chrono::steady_clock;

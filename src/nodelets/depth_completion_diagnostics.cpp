@@ -13,8 +13,12 @@ void DepthCompletionDiagnostics::start(ros::NodeHandle& nh, ros::NodeHandle& pri
                    [this](diagnostic_updater::DiagnosticStatusWrapper& status) { report(status); });
 }
 
-void DepthCompletionDiagnostics::countInput(Input input) {
+void DepthCompletionDiagnostics::countInput(FrameInput input) {
   counters_.update([input](Counts& counts) { ++counts.inputs[static_cast<int>(input)]; });
+}
+
+void DepthCompletionDiagnostics::countSet() {
+  counters_.update([](Counts& counts) { ++counts.inputs[kSet]; });
 }
 
 void DepthCompletionDiagnostics::countFault(rc::InputFault fault) {
@@ -48,8 +52,9 @@ void DepthCompletionDiagnostics::setSubscribed(bool subscribed) {
 void DepthCompletionDiagnostics::report(diagnostic_updater::DiagnosticStatusWrapper& status) {
   const bool subscribed = subscribed_;
   counters_.closeWindow([&](const Counts& window, const Counts& total, double seconds) {
-    static const char* const kInputNames[4] = {"points", "image", "camera_info", "synced sets"};
-    for (int i = 0; i < 4; ++i) {
+    static const char* const kInputNames[kSet + 1] = {"points", "image", "camera_info",
+                                                      "synced sets"};
+    for (int i = 0; i <= kSet; ++i) {
       status.addf(std::string(kInputNames[i]) + " rate (Hz)", "%.2f", window.inputs[i] / seconds);
     }
     status.addf("output rate (Hz)", "%.2f", window.published / seconds);
@@ -57,7 +62,7 @@ void DepthCompletionDiagnostics::report(diagnostic_updater::DiagnosticStatusWrap
     status.addf("latency mean (ms)", "%.1f", window.latency_sum_ms / published);
     status.addf("latency max (ms)", "%.1f", window.latency_max_ms);
     status.addf("compute mean (ms)", "%.1f", window.compute_sum_ms / published);
-    status.add("synced sets total", total.inputs[static_cast<int>(Input::kSet)]);
+    status.add("synced sets total", total.inputs[kSet]);
     status.add("published total", total.published);
     const unsigned long rejected_window =
         addRejectedRows<rc::InputFault>(status, window.faults, total.faults);
@@ -73,7 +78,7 @@ void DepthCompletionDiagnostics::report(diagnostic_updater::DiagnosticStatusWrap
       status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
                       "time went back %lu times in the last %.1f s (bag restarted?): started over",
                       window.time_jumps, seconds);
-    } else if (subscribed && window.inputs[static_cast<int>(Input::kSet)] == 0) {
+    } else if (subscribed && window.inputs[kSet] == 0) {
       status.summary(diagnostic_msgs::DiagnosticStatus::OK, "waiting for synchronized input");
     } else {
       status.summary(diagnostic_msgs::DiagnosticStatus::OK, subscribed ? "running" : "idle");

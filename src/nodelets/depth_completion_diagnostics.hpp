@@ -8,6 +8,7 @@
 #include <string>
 
 #include "multimodal_nvs/ros/conversions.hpp"
+#include "multimodal_nvs/ros/frame_synchronizer.hpp"
 #include "periodic_diagnostics.hpp"
 #include "windowed_counters.hpp"
 
@@ -15,12 +16,11 @@ namespace multimodal_nvs {
 
 class DepthCompletionDiagnostics {
  public:
-  enum class Input { kPoints, kImage, kCameraInfo, kSet };
-
   void start(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const std::string& node_name);
 
   // Thread-safe: called from subscriber and frame callbacks.
-  void countInput(Input input);
+  void countInput(FrameInput input);
+  void countSet();
   void countFault(ros_conversions::InputFault fault);
   void countPublished(double latency_ms, double compute_ms);
   /// Simulated time or the input stamps went back (a bag restarted): the node started over.
@@ -32,8 +32,11 @@ class DepthCompletionDiagnostics {
  private:
   void report(diagnostic_updater::DiagnosticStatusWrapper& status);
 
+  /// inputs[] index of the synchronized sets, after the three FrameInputs.
+  static constexpr int kSet = 3;
+
   struct Counts {
-    std::array<unsigned long, 4> inputs{};
+    std::array<unsigned long, kSet + 1> inputs{};
     unsigned long published = 0;
     std::array<unsigned long, ros_conversions::kInputFaultCount> faults{};
     double latency_sum_ms = 0.0, latency_max_ms = 0.0, compute_sum_ms = 0.0;

@@ -5,12 +5,12 @@
 
 #include <array>
 #include <cstddef>
-#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/thread_count_cached.hpp"
 
 namespace multimodal_nvs {
 
@@ -47,24 +47,6 @@ class GuardedSettings {
  private:
   mutable std::mutex mutex_;
   Settings settings_;
-};
-
-/// An engine with its own thread pool, built again only when the requested thread count changes.
-/// Not thread-safe: used by one frame callback at a time.
-template <class Engine>
-class ThreadCountCached {
- public:
-  Engine& forThreads(int threads) {
-    if (!engine_ || threads != threads_) {
-      engine_ = std::make_unique<Engine>(threads);
-      threads_ = threads;
-    }
-    return *engine_;
-  }
-
- private:
-  std::unique_ptr<Engine> engine_;
-  int threads_ = -1;
 };
 
 /// Throttles the log of rejected inputs per reason, so that one recurring fault does not hide

@@ -463,5 +463,40 @@ void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, co
   cloud.row_step = cloud.width * cloud.point_step;
 }
 
+ConversionStatus frameImage(const sensor_msgs::Image& image, FrameImage& frame) {
+  ConversionStatus status = validateImage(image);
+  if (!status.ok()) return status;
+  frame.header = image.header;
+  frame.size = ImageSize{int(image.height), int(image.width)};
+  frame.rgb = [&image](cv::Mat& rgb) { return rgbFromImage(image, rgb); };
+  return status;
+}
+
+ConversionStatus frameImage(const sensor_msgs::CompressedImage& image, FrameImage& frame) {
+  cv::Mat decoded;
+  ConversionStatus status = rgbFromCompressed(image, decoded);
+  if (!status.ok()) return status;
+  frame.header = image.header;
+  frame.size = ImageSize{decoded.rows, decoded.cols};
+  frame.rgb = [decoded](cv::Mat& rgb) {
+    rgb = decoded;
+    return ConversionStatus::success();
+  };
+  return status;
+}
+
+DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs::Header& header,
+                                     double latency_ms) {
+  auto message = boost::make_shared<DepthCompletionStats>();
+  message->header = header;
+  message->points_in = unsigned(stats.points_total);
+  message->points_in_view = unsigned(stats.points_in_view);
+  message->neighbour_sets = unsigned(stats.neighbour_sets);
+  message->kept_pixels = unsigned(stats.kept);
+  message->compute_ms = static_cast<float>(stats.compute_ms);
+  message->latency_ms = static_cast<float>(latency_ms);
+  return message;
+}
+
 }  // namespace ros_conversions
 }  // namespace multimodal_nvs

@@ -204,6 +204,33 @@ TEST(InputTimeline, DuplicatesAndReorderedStampsAreNotNewerALongJumpIsARestart) 
   EXPECT_FALSE(clock.jumpedBack(ros::Time(2.5), &jump));
 }
 
+TEST(InputTimeline, AClockJumpForgetsTheStampsAStampRestartIsReportedALateStampIsAFault) {
+  mm::InputTimeline timeline;
+  EXPECT_FALSE(timeline.clockJumpedBack(ros::Time(50.0)));
+  auto admission = timeline.admit(ros::Time(100.0));
+  EXPECT_TRUE(admission.status.ok());
+  EXPECT_FALSE(admission.restarted);
+
+  admission = timeline.admit(ros::Time(100.0));
+  EXPECT_EQ(admission.status.fault, InputFault::kStampNotNewer);
+  EXPECT_NE(admission.status.reason.find("repeats"), std::string::npos);
+  admission = timeline.admit(ros::Time(99.5));
+  EXPECT_NE(admission.status.reason.find("precedes"), std::string::npos);
+
+  admission = timeline.admit(ros::Time(40.0));  // a bag replayed without --clock
+  EXPECT_TRUE(admission.restarted);
+  EXPECT_DOUBLE_EQ(admission.back.toSec(), 60.0);
+  EXPECT_TRUE(admission.status.ok());
+  EXPECT_EQ(timeline.admit(ros::Time(40.0)).status.fault, InputFault::kStampNotNewer);
+
+  ros::Duration jump;
+  EXPECT_TRUE(timeline.clockJumpedBack(ros::Time(10.0), &jump));  // a bag replayed with --clock
+  EXPECT_DOUBLE_EQ(jump.toSec(), 40.0);
+  admission = timeline.admit(ros::Time(5.0));  // the new run's first set: no history left
+  EXPECT_TRUE(admission.status.ok());
+  EXPECT_FALSE(admission.restarted);
+}
+
 TEST(CloudConversion, FloatOverloadMatches) {
   std::vector<Eigen::Vector3f> points;
   ASSERT_TRUE(rc::pointsFromCloud(
@@ -306,6 +333,57 @@ TEST(ImageConversion, DecodesPngAndJpegAndRejectsGarbage) {
   EXPECT_EQ(rc::rgbFromCompressed(garbage, rgb).fault, InputFault::kImageDecode);
   garbage.data.clear();
   EXPECT_EQ(rc::rgbFromCompressed(garbage, rgb).fault, InputFault::kImageDecode);
+}
+
+TEST(FrameImage, RawIsValidatedAndConvertedOnlyOnDemand) {
+  sensor_msgs::Image image = makeImage(enc::RGB8, 3, 4, 3, 2);
+  image.header.frame_id = "camera";
+  rc::FrameImage frame;
+  ASSERT_TRUE(rc::frameImage(image, frame).ok());
+  EXPECT_EQ(frame.header.frame_id, "camera");
+  EXPECT_EQ(frame.size, (mm::ImageSize{3, 4}));
+  cv::Mat rgb;
+  ASSERT_TRUE(frame.rgb(rgb).ok());
+  EXPECT_EQ(rgb.data, image.data.data());  // rgb8: the message's own pixels
+  image.encoding = enc::TYPE_16UC1;
+  EXPECT_EQ(rc::frameImage(image, frame).fault, InputFault::kImageEncoding);
+}
+
+TEST(FrameImage, CompressedIsDecodedAtOnce) {
+  std::vector<std::uint8_t> bytes;
+  ASSERT_TRUE(cv::imencode(".png", cv::Mat(6, 8, CV_8UC3, cv::Scalar(10, 120, 240)), bytes));
+  sensor_msgs::CompressedImage msg;
+  msg.format = "png";
+  msg.data = bytes;
+  rc::FrameImage frame;
+  ASSERT_TRUE(rc::frameImage(msg, frame).ok());
+  EXPECT_EQ(frame.size, (mm::ImageSize{6, 8}));
+  msg.data.clear();  // the decoded pixels do not depend on the message any more
+  cv::Mat rgb;
+  ASSERT_TRUE(frame.rgb(rgb).ok());
+  EXPECT_EQ(rgb.at<cv::Vec3b>(2, 3), cv::Vec3b(240, 120, 10));
+  EXPECT_EQ(rc::frameImage(msg, frame).fault, InputFault::kImageDecode);
+}
+
+TEST(StatsMessage, CarriesTheCoreStatsAndTheLatency) {
+  mm::DepthMapStats stats;
+  stats.points_total = 1234;
+  stats.points_in_view = 1000;
+  stats.neighbour_sets = 77;
+  stats.kept = 4321;
+  stats.compute_ms = 12.5;
+  std_msgs::Header header;
+  header.stamp = ros::Time(5.0);
+  header.frame_id = "camera";
+  const auto message = rc::statsMessage(stats, header, 20.25);
+  EXPECT_EQ(message->header.stamp, header.stamp);
+  EXPECT_EQ(message->header.frame_id, "camera");
+  EXPECT_EQ(message->points_in, 1234u);
+  EXPECT_EQ(message->points_in_view, 1000u);
+  EXPECT_EQ(message->neighbour_sets, 77u);
+  EXPECT_EQ(message->kept_pixels, 4321u);
+  EXPECT_FLOAT_EQ(message->compute_ms, 12.5f);
+  EXPECT_FLOAT_EQ(message->latency_ms, 20.25f);
 }
 
 sensor_msgs::CameraInfo makeInfo() {

@@ -2,11 +2,13 @@
 // ROS messages <-> core types. Everything that comes in is validated here, before the core sees
 // it, and a failure comes back as a typed InputFault with a specific reason: callbacks drop the
 // message and count the fault instead of catching exceptions. No algorithm lives here.
+#include <multimodal_nvs/DepthCompletionStats.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <Eigen/Geometry>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -101,6 +103,20 @@ ConversionStatus rgbFromImage(const sensor_msgs::Image& image, cv::Mat& rgb);
 /// Decodes a jpeg or png CompressedImage into RGB (CV_8UC3).
 ConversionStatus rgbFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& rgb);
 
+/// The image of a synchronized set as depth completion needs it: header and size at once, the RGB
+/// pixels on demand (only depth/points needs colour).
+struct FrameImage {
+  std_msgs::Header header;
+  ImageSize size;
+  std::function<ConversionStatus(cv::Mat&)> rgb;
+};
+
+/// Raw image: validated without touching its pixels; `rgb` is rgbFromImage (rgb8 wrapped without a
+/// copy), so `image` must outlive `frame`.
+ConversionStatus frameImage(const sensor_msgs::Image& image, FrameImage& frame);
+/// Compressed image: decoded at once, since decoding is the only way to learn its size.
+ConversionStatus frameImage(const sensor_msgs::CompressedImage& image, FrameImage& frame);
+
 /// CameraInfo -> intrinsics from K; the CameraInfo's size must equal `image_size`.
 ConversionStatus intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info,
                                           const ImageSize& image_size,
@@ -132,6 +148,11 @@ sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full,
 void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, const cv::Mat& rgb,
                   int cloud_stride, const std_msgs::Header& header,
                   sensor_msgs::PointCloud2& cloud);
+
+/// depth/stats of one completed frame; `latency_ms` runs from the receipt of the set's last
+/// message to publication.
+DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs::Header& header,
+                                     double latency_ms);
 
 }  // namespace ros_conversions
 }  // namespace multimodal_nvs

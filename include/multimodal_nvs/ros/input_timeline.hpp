@@ -6,6 +6,8 @@
 #include <ros/duration.h>
 #include <ros/time.h>
 
+#include "multimodal_nvs/ros/conversions.hpp"
+
 namespace multimodal_nvs {
 
 /// Classifies each stamp against the last accepted one.
@@ -55,6 +57,34 @@ class ClockWatch {
 
  private:
   ros::Time last_;
+};
+
+/// A node's time bookkeeping as one policy: the clock is watched per received message, the stamp
+/// order per synchronized set. Either going back far restarts the stream; the node then starts over
+/// (clears its synchronizer queues and tf buffer). Not thread-safe: one callback at a time.
+class InputTimeline {
+ public:
+  /// What to do with a set's stamp.
+  struct Admission {
+    /// The stamps went back by `back`, at least StampOrder's restart gap: a restarted stream (a
+    /// bag replayed without --clock). The set is processed; the node starts over first.
+    bool restarted = false;
+    ros::Duration back;
+    /// kStampNotNewer for a repeated or slightly reordered stamp (drop the set), ok otherwise.
+    ros_conversions::ConversionStatus status;
+  };
+
+  /// Per received message, with the current time: true when the clock went back by `jump` (a bag
+  /// restarted with --clock); the stamp history is forgotten then, so the new run's first set is
+  /// processed.
+  bool clockJumpedBack(const ros::Time& now, ros::Duration* jump = nullptr);
+
+  /// Per synchronized set, with its image stamp.
+  Admission admit(const ros::Time& stamp);
+
+ private:
+  ClockWatch clock_;
+  StampOrder stamps_;
 };
 
 }  // namespace multimodal_nvs

@@ -1,0 +1,69 @@
+#pragma once
+// One synchronized set through depth completion: intrinsics, the cloud's layout and its transform
+// into the camera frame checked, the cloud read into the workspace within the point cap and
+// completed by the core; every way it can fail comes back as an InputFault naming its input.
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_ros/buffer.h>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <string>
+
+#include "multimodal_nvs/core/depth/depth_completion_workspace.hpp"
+#include "multimodal_nvs/ros/conversions.hpp"
+#include "multimodal_nvs/ros/depth_completion_config.hpp"
+
+namespace multimodal_nvs {
+namespace ros_conversions {
+
+/// The transform from the cloud's frame to `camera_frame` at the cloud's stamp, waiting up to
+/// `timeout` for it; identity without a lookup when the frames are the same.
+ConversionStatus lookupSensorToCamera(const tf2_ros::Buffer& tf_buffer,
+                                      const std_msgs::Header& cloud_header,
+                                      const std::string& camera_frame, const ros::Duration& timeout,
+                                      Eigen::Isometry3d& sensor_to_camera);
+
+/// How the cloud was read.
+struct CloudReading {
+  std::size_t cap = 0;  ///< most points the model was to get (0: no limit), see pointCap
+  /// Every step-th point went to the model (> 1: the cloud exceeded the cap); 1 when the cloud was
+  /// rejected before the model.
+  std::size_t step = 1;
+  std::size_t non_finite = 0;
+};
+
+/// Reads `cloud` (layout already validated) into `workspace` in the camera frame, at most about
+/// pointCap(max_points, params) points, and completes it into workspace.depth(). Rejects a cloud
+/// without a point in front of the camera; a scan this host has no memory for comes back as
+/// kOutOfMemory (the node keeps running, max_points keeps a dense cloud's buffers small in the
+/// first place). Throws InputError for invalid parameters or intrinsics.
+ConversionStatus completeDepthFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                        const Eigen::Isometry3d& sensor_to_camera,
+                                        const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
+                                        const DepthCompletionParams& params, int max_points,
+                                        DepthCompletionWorkspace& workspace, CloudReading& reading);
+
+/// Outcome of completeDepthFrame.
+struct DepthFrameResult {
+  ConversionStatus status;
+  const char* input = "";  ///< the input `status` is about when it is a failure: its topic or "tf"
+  PinholeIntrinsics intrinsics;
+  CloudReading reading;
+  /// The core's InputError for parameters or intrinsics, which the node validated before: not an
+  /// input fault, not expected. `status` is ok then, but there is no depth.
+  std::string error;
+
+  bool completed() const { return status.ok() && error.empty(); }
+};
+
+/// The whole frame in the order its faults are reported: camera_info's intrinsics for `image`, the
+/// cloud's layout (so that a malformed cloud is reported as such, not as a missing transform), its
+/// transform (lookupSensorToCamera), then completeDepthFromCloud into workspace.depth().
+DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const FrameImage& image,
+                                    const sensor_msgs::CameraInfo& info,
+                                    const tf2_ros::Buffer& tf_buffer,
+                                    const ros::Duration& tf_timeout,
+                                    const DepthCompletionSettings& settings, int max_points,
+                                    DepthCompletionWorkspace& workspace);
+
+}  // namespace ros_conversions
+}  // namespace multimodal_nvs

@@ -1,0 +1,90 @@
+#include "multimodal_nvs/ros/depth_frame.hpp"
+
+#include <tf2_eigen/tf2_eigen.h>
+
+#include <new>
+#include <string>
+
+#include "multimodal_nvs/core/common/errors.hpp"
+
+namespace multimodal_nvs {
+namespace ros_conversions {
+
+ConversionStatus lookupSensorToCamera(const tf2_ros::Buffer& tf_buffer,
+                                      const std_msgs::Header& cloud_header,
+                                      const std::string& camera_frame, const ros::Duration& timeout,
+                                      Eigen::Isometry3d& sensor_to_camera) {
+  if (cloud_header.frame_id == camera_frame) {
+    sensor_to_camera.setIdentity();
+    return ConversionStatus::success();
+  }
+  try {
+    sensor_to_camera = tf2::transformToEigen(tf_buffer.lookupTransform(
+        camera_frame, cloud_header.frame_id, cloud_header.stamp, timeout));
+    return ConversionStatus::success();
+  } catch (const tf2::TransformException& e) {
+    return ConversionStatus::failure(InputFault::kTransformUnavailable, e.what());
+  }
+}
+
+ConversionStatus completeDepthFromCloud(const sensor_msgs::PointCloud2& cloud,
+                                        const Eigen::Isometry3d& sensor_to_camera,
+                                        const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
+                                        const DepthCompletionParams& params, int max_points,
+                                        DepthCompletionWorkspace& workspace,
+                                        CloudReading& reading) {
+  reading = CloudReading{};
+  reading.cap = pointCap(max_points, params);
+  std::size_t step = 1;
+  ConversionStatus status = pointsFromCloud(cloud, sensor_to_camera, reading.cap,
+                                            workspace.points(), &reading.non_finite, &step);
+  if (!status.ok()) return status;
+  status = checkPointsInFront(workspace.points());
+  if (!status.ok()) return status;
+  reading.step = step;  // only for a cloud that goes on to the model
+  const std::size_t points = workspace.points().size();  // the workspace may release them
+  try {
+    workspace.complete(intrinsics, grid, params);
+  } catch (const std::bad_alloc&) {
+    // One allocation too large for this host (the model's buffers grow with points and pixels):
+    // the set is lost, the node is not. The thread pool rethrows its workers' exceptions here.
+    return ConversionStatus::failure(InputFault::kOutOfMemory,
+                                     "depth completion of " + std::to_string(points) +
+                                         " points on a " + std::to_string(grid.image.width) + "x" +
+                                         std::to_string(grid.image.height) +
+                                         " image ran out of memory");
+  }
+  return ConversionStatus::success();
+}
+
+DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const FrameImage& image,
+                                    const sensor_msgs::CameraInfo& info,
+                                    const tf2_ros::Buffer& tf_buffer,
+                                    const ros::Duration& tf_timeout,
+                                    const DepthCompletionSettings& settings, int max_points,
+                                    DepthCompletionWorkspace& workspace) {
+  DepthFrameResult result;
+  result.input = "camera_info";
+  result.status = intrinsicsFromCameraInfo(info, image.size, result.intrinsics);
+  if (!result.status.ok()) return result;
+  result.input = "points";
+  result.status = validateCloudLayout(cloud);
+  if (!result.status.ok()) return result;
+  Eigen::Isometry3d sensor_to_camera;
+  result.input = "tf";
+  result.status = lookupSensorToCamera(tf_buffer, cloud.header, image.header.frame_id, tf_timeout,
+                                       sensor_to_camera);
+  if (!result.status.ok()) return result;
+  result.input = "points";
+  try {
+    result.status = completeDepthFromCloud(cloud, sensor_to_camera, result.intrinsics,
+                                           StrideGrid{image.size, settings.stride}, settings.params,
+                                           max_points, workspace, result.reading);
+  } catch (const InputError& e) {
+    result.error = e.what();
+  }
+  return result;
+}
+
+}  // namespace ros_conversions
+}  // namespace multimodal_nvs

@@ -1,0 +1,136 @@
+// completeDepthFrame and its steps on the synthetic scene: the sensor -> camera transform, the
+// point cap, the order in which faults are reported, the core's result unchanged; no master.
+#include <gtest/gtest.h>
+#include <tf2_ros/buffer.h>
+
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/ros/depth_frame.hpp"
+#include "synthetic_scene.hpp"
+
+namespace mm = multimodal_nvs;
+namespace rc = multimodal_nvs::ros_conversions;
+namespace scene = synthetic_scene;
+using rc::InputFault;
+
+namespace {
+
+const ros::Duration kTimeout(0.01);
+
+class DepthFrame : public testing::Test {
+ protected:
+  void SetUp() override {
+    ros::Time::init();                  // tf2's lookup with a timeout reads the clock
+    tf_.setUsingDedicatedThread(true);  // a listener's thread would fill it; here the test does
+    tf_.setTransform(scene::sensorToCameraMsg(stamp_), "test", /*is_static=*/true);
+    set_ = scene::inputSet(stamp_);
+    ASSERT_TRUE(rc::frameImage(set_.image, image_).ok());
+    settings_.params.model = mm::DepthModel::kKernel;  // fast; the pipeline is the same
+    settings_.stride = 4;
+  }
+
+  rc::DepthFrameResult complete(int max_points = 0) {
+    return rc::completeDepthFrame(set_.cloud, image_, set_.info, tf_, kTimeout, settings_,
+                                  max_points, workspace_);
+  }
+
+  const ros::Time stamp_{100.0};
+  tf2_ros::Buffer tf_;
+  scene::InputSet set_;
+  rc::FrameImage image_;
+  mm::DepthCompletionSettings settings_;
+  mm::DepthCompletionWorkspace workspace_;
+};
+
+TEST_F(DepthFrame, SensorToCameraIsTheTfTransformOrIdentityForTheCameraFrame) {
+  Eigen::Isometry3d transform;
+  ASSERT_TRUE(
+      rc::lookupSensorToCamera(tf_, set_.cloud.header, scene::kCameraFrame, kTimeout, transform)
+          .ok());
+  EXPECT_TRUE(transform.isApprox(scene::sensorToCamera(), 1e-9));
+
+  std_msgs::Header in_camera = set_.cloud.header;
+  in_camera.frame_id = scene::kCameraFrame;
+  transform.translation().x() = 5.0;
+  ASSERT_TRUE(
+      rc::lookupSensorToCamera(tf_, in_camera, scene::kCameraFrame, kTimeout, transform).ok());
+  EXPECT_TRUE(transform.isApprox(Eigen::Isometry3d::Identity()));
+
+  std_msgs::Header unknown = set_.cloud.header;
+  unknown.frame_id = "nowhere";
+  const rc::ConversionStatus missing =
+      rc::lookupSensorToCamera(tf_, unknown, scene::kCameraFrame, kTimeout, transform);
+  EXPECT_EQ(missing.fault, InputFault::kTransformUnavailable);
+  EXPECT_FALSE(missing.reason.empty());
+}
+
+TEST_F(DepthFrame, CompletesTheSceneAsTheCoreDoes) {
+  const rc::DepthFrameResult result = complete();
+  ASSERT_TRUE(result.completed()) << result.status.reason << result.error;
+  EXPECT_EQ(result.reading.cap, mm::kLinearModelPointCap);
+  EXPECT_EQ(result.reading.step, 1u);
+  EXPECT_EQ(result.intrinsics.fx, scene::kFx);
+
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3d& p : scene::sensorPoints())
+    points.push_back(scene::sensorToCamera() * p.cast<float>().cast<double>());
+  const mm::DepthMap want = mm::DepthCompleter(settings_.params.threads)
+                                .complete(points, result.intrinsics,
+                                          {{scene::kHeight, scene::kWidth}, 4}, settings_.params);
+  const mm::DepthMap& got = workspace_.depth();
+  EXPECT_EQ(got.depth, want.depth);
+  EXPECT_EQ(got.variance, want.variance);
+  EXPECT_EQ(got.valid, want.valid);
+  EXPECT_GT(got.stats.kept, 0);
+}
+
+TEST_F(DepthFrame, ACloudOverTheCapIsReadEveryKthPoint) {
+  const std::size_t total = scene::sensorPoints().size();
+  const rc::DepthFrameResult result = complete(100);
+  ASSERT_TRUE(result.completed()) << result.status.reason;
+  EXPECT_EQ(result.reading.cap, 100u);
+  const std::size_t step = (total + 99) / 100;
+  EXPECT_EQ(result.reading.step, step);
+  EXPECT_EQ(workspace_.depth().stats.points_total, (total + step - 1) / step);
+}
+
+TEST_F(DepthFrame, FaultsAreReportedInInputOrderWithTheirInput) {
+  set_.info.K.fill(0.0);
+  set_.cloud.point_step = 0;
+  set_.cloud.header.frame_id = "nowhere";
+  rc::DepthFrameResult result = complete();
+  EXPECT_EQ(result.status.fault, InputFault::kCameraInfoIntrinsics);
+  EXPECT_STREQ(result.input, "camera_info");
+
+  set_.info = scene::cameraInfo(stamp_);
+  result = complete();  // a malformed cloud, not a missing transform
+  EXPECT_EQ(result.status.fault, InputFault::kCloudFieldOffset);
+  EXPECT_STREQ(result.input, "points");
+
+  set_.cloud.point_step = 16;
+  result = complete();
+  EXPECT_EQ(result.status.fault, InputFault::kTransformUnavailable);
+  EXPECT_STREQ(result.input, "tf");
+  EXPECT_FALSE(result.completed());
+}
+
+TEST_F(DepthFrame, ACloudBehindTheCameraNeverReachesTheModel) {
+  set_.cloud.header.frame_id = scene::kCameraFrame;  // no transform: z as written below
+  for (std::size_t i = 0; i < set_.cloud.width; ++i) {
+    float z = -1.0f;
+    std::memcpy(&set_.cloud.data[i * set_.cloud.point_step + 8], &z, sizeof z);
+  }
+  const rc::DepthFrameResult result = complete(10);
+  EXPECT_EQ(result.status.fault, InputFault::kCloudBehindCamera);
+  EXPECT_STREQ(result.input, "points");
+  EXPECT_EQ(result.reading.step, 1u);  // nothing was subsampled for the model
+}
+
+TEST_F(DepthFrame, TheCoresInputErrorIsReportedApartFromInputFaults) {
+  settings_.params.radius_deg = -1.0;
+  const rc::DepthFrameResult result = complete();
+  EXPECT_TRUE(result.status.ok());
+  EXPECT_FALSE(result.error.empty());
+  EXPECT_FALSE(result.completed());
+}
+
+}  // namespace
