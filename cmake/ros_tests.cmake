@@ -11,7 +11,7 @@ target_link_libraries(test_ros_conversions multimodal_nvs_ros)
 # Synthetic-scene input for the rate tests (a test helper, not installed).
 add_executable(scene_publisher EXCLUDE_FROM_ALL test/ros/scene_publisher.cpp)
 target_include_directories(scene_publisher SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
-target_link_libraries(scene_publisher ${catkin_LIBRARIES})
+target_link_libraries(scene_publisher multimodal_nvs_ros ${catkin_LIBRARIES})
 add_dependencies(tests scene_publisher)
 
 # The rostests start the node through launch/depth_completion.launch: both the nodelet (in a
@@ -22,7 +22,7 @@ add_dependencies(tests multimodal_nvs_nodelets depth_completion_node)
 foreach(scenario depth_scene depth_bad_input depth_adversarial)
   add_rostest_gtest(test_${scenario} test/ros/${scenario}.test test/ros/test_${scenario}.cpp)
   target_include_directories(test_${scenario} SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
-  target_link_libraries(test_${scenario} ${catkin_LIBRARIES})
+  target_link_libraries(test_${scenario} multimodal_nvs_ros ${catkin_LIBRARIES})
   add_dependencies(test_${scenario} ${PROJECT_NAME}_generate_messages_cpp
     ${MMNVS_ROSTEST_DEPENDENCIES})
   add_rostest(test/ros/${scenario}.test ARGS mode:=standalone

@@ -23,6 +23,7 @@
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
+#include "multimodal_nvs/ros/conversions.hpp"
 
 namespace mm = multimodal_nvs;
 using Clock = std::chrono::steady_clock;
@@ -33,25 +34,10 @@ constexpr const char* kCameraFrame = "vod_camera";
 constexpr const char* kRadarFrame = "vod_radar";
 
 sensor_msgs::PointCloud2 radarCloud(const std::vector<float>& records) {
-  static const char* const kNames[7] = {"x", "y", "z", "rcs", "v_r", "v_r_compensated", "time"};
-  sensor_msgs::PointCloud2 cloud;
-  cloud.header.frame_id = kRadarFrame;
-  for (int i = 0; i < 7; ++i) {
-    sensor_msgs::PointField f;
-    f.name = kNames[i];
-    f.offset = 4 * i;
-    f.datatype = sensor_msgs::PointField::FLOAT32;
-    f.count = 1;
-    cloud.fields.push_back(f);
-  }
-  cloud.point_step = 28;
-  cloud.height = 1;
-  cloud.width = records.size() / 7;
-  cloud.row_step = cloud.width * cloud.point_step;
-  cloud.is_dense = true;
-  cloud.data.resize(cloud.row_step);
-  std::memcpy(cloud.data.data(), records.data(), cloud.data.size());
-  return cloud;
+  std_msgs::Header header;
+  header.frame_id = kRadarFrame;
+  return mm::ros_conversions::float32Cloud({"x", "y", "z", "rcs", "v_r", "v_r_compensated", "time"},
+                                           records, header);
 }
 
 geometry_msgs::TransformStamped extrinsic(const mm::SensorToCamera& tr) {

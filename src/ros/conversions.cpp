@@ -2,6 +2,7 @@
 
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_field_conversion.h>
+#include <algorithm>
 #include <boost/make_shared.hpp>
 #include <cmath>
 #include <cstdint>
@@ -410,6 +411,31 @@ sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full,
   for (int i : {0, 2, 3, 5, 6, 7})
     info->P[i] /= s;
   return info;
+}
+
+sensor_msgs::PointCloud2 float32Cloud(const std::vector<std::string>& names,
+                                      const std::vector<float>& values,
+                                      const std_msgs::Header& header) {
+  sensor_msgs::PointCloud2 cloud;
+  cloud.header = header;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    sensor_msgs::PointField field;
+    field.name = names[i];
+    field.offset = static_cast<std::uint32_t>(4 * i);
+    field.datatype = sensor_msgs::PointField::FLOAT32;
+    field.count = 1;
+    cloud.fields.push_back(field);
+  }
+  cloud.point_step = static_cast<std::uint32_t>(4 * names.size());
+  cloud.height = 1;
+  cloud.width = names.empty() ? 0 : static_cast<std::uint32_t>(values.size() / names.size());
+  cloud.row_step = cloud.point_step * cloud.width;
+  cloud.is_bigendian = false;
+  cloud.is_dense =
+      std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
+  cloud.data.resize(std::size_t(cloud.row_step));
+  if (!cloud.data.empty()) std::memcpy(cloud.data.data(), values.data(), cloud.data.size());
+  return cloud;
 }
 
 void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, const cv::Mat& rgb,

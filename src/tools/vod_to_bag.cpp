@@ -19,7 +19,6 @@
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
-#include <sensor_msgs/PointField.h>
 #include <sensor_msgs/image_encodings.h>
 #include <tf2_msgs/TFMessage.h>
 
@@ -45,6 +44,7 @@
 #include "multimodal_nvs/core/io/point_files.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
 #include "multimodal_nvs/core/io/vod_pose.hpp"
+#include "multimodal_nvs/ros/conversions.hpp"
 
 namespace mm = multimodal_nvs;
 namespace fs = std::filesystem;
@@ -219,28 +219,11 @@ geometry_msgs::TransformStamped toTransform(const Eigen::Isometry3d& t, const ro
 
 sensor_msgs::PointCloud2 toCloud(const std::string& path, const std::vector<std::string>& names,
                                  const std::string& frame, const ros::Time& stamp) {
-  const std::vector<float> values = mm::io::readFloatRecords(path, static_cast<int>(names.size()));
-  sensor_msgs::PointCloud2 cloud;
-  cloud.header.stamp = stamp;
-  cloud.header.frame_id = frame;
-  for (std::size_t i = 0; i < names.size(); ++i) {
-    sensor_msgs::PointField field;
-    field.name = names[i];
-    field.offset = static_cast<std::uint32_t>(4 * i);
-    field.datatype = sensor_msgs::PointField::FLOAT32;
-    field.count = 1;
-    cloud.fields.push_back(field);
-  }
-  cloud.point_step = static_cast<std::uint32_t>(4 * names.size());
-  cloud.height = 1;
-  cloud.width = static_cast<std::uint32_t>(values.size() / names.size());
-  cloud.row_step = cloud.point_step * cloud.width;
-  cloud.is_bigendian = false;
-  cloud.is_dense =
-      std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
-  cloud.data.resize(values.size() * sizeof(float));
-  if (!values.empty()) std::memcpy(cloud.data.data(), values.data(), cloud.data.size());
-  return cloud;
+  std_msgs::Header header;
+  header.stamp = stamp;
+  header.frame_id = frame;
+  return mm::ros_conversions::float32Cloud(
+      names, mm::io::readFloatRecords(path, static_cast<int>(names.size())), header);
 }
 
 sensor_msgs::CameraInfo toCameraInfo(const mm::io::KittiCalib& calib, int width, int height,

@@ -15,6 +15,8 @@
 #include <cstring>
 #include <vector>
 
+#include "multimodal_nvs/ros/conversions.hpp"
+
 namespace synthetic_scene {
 
 constexpr int kWidth = 320;
@@ -133,29 +135,12 @@ inline std::vector<Eigen::Vector3d> sensorPoints() {
 
 /// Unorganised cloud: float32 x, y, z plus an extra float32 "intensity" field.
 inline sensor_msgs::PointCloud2 cloud(const ros::Time& stamp) {
-  const std::vector<Eigen::Vector3d> points = sensorPoints();
-  sensor_msgs::PointCloud2 msg;
-  msg.header = header(stamp, kSensorFrame);
-  const char* names[4] = {"x", "y", "z", "intensity"};
-  for (int i = 0; i < 4; ++i) {
-    sensor_msgs::PointField f;
-    f.name = names[i];
-    f.offset = 4 * i;
-    f.datatype = sensor_msgs::PointField::FLOAT32;
-    f.count = 1;
-    msg.fields.push_back(f);
+  std::vector<float> values;
+  for (const Eigen::Vector3d& p : sensorPoints()) {
+    values.insert(values.end(), {float(p.x()), float(p.y()), float(p.z()), 1.f});
   }
-  msg.point_step = 16;
-  msg.height = 1;
-  msg.width = points.size();
-  msg.row_step = msg.width * msg.point_step;
-  msg.is_dense = true;
-  msg.data.resize(msg.row_step);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const float values[4] = {float(points[i].x()), float(points[i].y()), float(points[i].z()), 1.f};
-    std::memcpy(&msg.data[i * 16], values, sizeof values);
-  }
-  return msg;
+  return multimodal_nvs::ros_conversions::float32Cloud({"x", "y", "z", "intensity"}, values,
+                                                       header(stamp, kSensorFrame));
 }
 
 /// One synchronized input set of the depth nodelet.

@@ -610,3 +610,31 @@ int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
 }
+
+TEST(Float32Cloud, RecordsRoundTripThroughTheReader) {
+  std_msgs::Header header;
+  header.frame_id = "radar";
+  const std::vector<float> values = {1.f, 2.f, 3.f, 0.5f, -4.f, 5.f, 6.f, 0.25f};
+  const sensor_msgs::PointCloud2 cloud =
+      rc::float32Cloud({"x", "y", "z", "intensity"}, values, header);
+  EXPECT_EQ(cloud.header.frame_id, "radar");
+  EXPECT_EQ(cloud.width, 2u);
+  EXPECT_EQ(cloud.height, 1u);
+  EXPECT_EQ(cloud.point_step, 16u);
+  EXPECT_EQ(cloud.row_step, 32u);
+  EXPECT_TRUE(cloud.is_dense);
+  ASSERT_EQ(cloud.fields.size(), 4u);
+  EXPECT_EQ(cloud.fields[3].name, "intensity");
+  EXPECT_EQ(cloud.fields[3].offset, 12u);
+  std::vector<Eigen::Vector3d> points;
+  ASSERT_TRUE(rc::pointsFromCloud(cloud, Eigen::Isometry3d::Identity(), points, nullptr).ok());
+  ASSERT_EQ(points.size(), 2u);
+  EXPECT_EQ(points[1], Eigen::Vector3d(-4.0, 5.0, 6.0));
+}
+
+TEST(Float32Cloud, NonFiniteValueMakesItNotDense) {
+  const std::vector<float> values = {1.f, std::numeric_limits<float>::quiet_NaN(), 3.f};
+  const sensor_msgs::PointCloud2 cloud = rc::float32Cloud({"x", "y", "z"}, values, {});
+  EXPECT_FALSE(cloud.is_dense);
+  EXPECT_EQ(cloud.width, 1u);
+}

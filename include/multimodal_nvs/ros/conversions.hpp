@@ -141,6 +141,12 @@ void maskImage(const DepthMap& depth, const std_msgs::Header& header, sensor_msg
 sensor_msgs::CameraInfoPtr gridCameraInfo(const sensor_msgs::CameraInfo& full,
                                           const StrideGrid& grid);
 
+/// Unorganised cloud of float32 records, one field a name in that order (e.g. x, y, z, intensity);
+/// `values` holds the records back to back. is_dense when every value is finite.
+sensor_msgs::PointCloud2 float32Cloud(const std::vector<std::string>& names,
+                                      const std::vector<float>& values,
+                                      const std_msgs::Header& header);
+
 /// XYZRGB cloud (float32 x, y, z, packed rgb) in the camera frame of the kept pixels, every
 /// `cloud_stride`-th grid pixel in each direction: P = z K^-1 [u, v, 1] at the full-image pixel,
 /// colour = `rgb` (full-image CV_8UC3) at that pixel. Unorganised, dense. Written into `cloud`,

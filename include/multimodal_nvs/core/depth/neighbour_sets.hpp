@@ -56,4 +56,24 @@ inline bool withinRadius(float az_pixel, float el_pixel, float az_sample, float 
   return da2 + de2 <= radius_sq;
 }
 
+/// Calls visit(row, segment, row_azimuth, row_elevation, worker) for every segment of every grid
+/// row, rows spread over the pool `rows_per_chunk` at a time: how the models that predict per
+/// neighbour set (local GP, kernel) reach their pixels. row_azimuth/row_elevation are the row's
+/// pixel angles; `worker` indexes per-thread scratch.
+template <class Visit>
+void forEachSegment(const NeighbourSets& sets, const PixelAngleGrid& angles, ThreadPool& pool,
+                    long long rows_per_chunk, Visit&& visit) {
+  pool.parallelFor(
+      angles.grid().rows(),
+      [&](long long row_index, int worker) {
+        const int row = static_cast<int>(row_index);
+        const float* az = angles.azimuthRow(row);
+        const float* el = angles.elevationRow(row);
+        for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
+          visit(row, sets.segments()[k], az, el, worker);
+        }
+      },
+      rows_per_chunk);
+}
+
 }  // namespace multimodal_nvs

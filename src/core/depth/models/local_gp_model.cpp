@@ -153,26 +153,18 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
       4);
 
   const int cols = angles.grid().cols();
-  pool.parallelFor(
-      angles.grid().rows(),
-      [&](long long row_index, int) {
-        const int row = static_cast<int>(row_index);
-        const float* az = angles.azimuthRow(row);
-        const float* el = angles.elevationRow(row);
-        for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
-          const NeighbourSegment& seg = sets.segments()[k];
-          if (!solved[seg.set_id]) continue;
-          const std::size_t pixel = std::size_t(row) * cols + seg.col_begin;
-          predictFromFactor(factors.data() + factor_offset[seg.set_id],
-                            betas.data() + member_offset[seg.set_id],
-                            member_az.data() + member_offset[seg.set_id],
-                            member_el.data() + member_offset[seg.set_id], sets.setSize(seg.set_id),
-                            length_scales[seg.set_id], gp, az + seg.col_begin, el + seg.col_begin,
-                            seg.col_end - seg.col_begin, prior.constant, out.mean.data() + pixel,
-                            out.variance.data() + pixel);
-        }
-      },
-      4);
+  forEachSegment(sets, angles, pool, 4,
+                 [&](int row, const NeighbourSegment& seg, const float* az, const float* el, int) {
+                   if (!solved[seg.set_id]) return;
+                   const std::size_t pixel = std::size_t(row) * cols + seg.col_begin;
+                   const std::size_t member = member_offset[seg.set_id];
+                   predictFromFactor(
+                       factors.data() + factor_offset[seg.set_id], betas.data() + member,
+                       member_az.data() + member, member_el.data() + member,
+                       sets.setSize(seg.set_id), length_scales[seg.set_id], gp, az + seg.col_begin,
+                       el + seg.col_begin, seg.col_end - seg.col_begin, prior.constant,
+                       out.mean.data() + pixel, out.variance.data() + pixel);
+                 });
 }
 
 }  // namespace multimodal_nvs
