@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 
+#include "multimodal_nvs/core/common/bit_cast.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
@@ -41,18 +42,6 @@ struct ViewTransform {
 };
 
 constexpr std::uint64_t kEmptyKey = std::numeric_limits<std::uint64_t>::max();
-
-inline std::uint32_t floatBits(float f) {
-  std::uint32_t bits;
-  std::memcpy(&bits, &f, sizeof bits);
-  return bits;
-}
-
-inline float bitsToFloat(std::uint32_t bits) {
-  float f;
-  std::memcpy(&f, &bits, sizeof f);
-  return f;
-}
 
 void allocate(RenderedFrame& out, ImageSize size, bool with_signed) {
   out.bgr.create(size.height, size.width, CV_8UC3);
@@ -278,7 +267,8 @@ void PointSplatter::renderZbuffer(const ColoredCloud& cloud, const TargetCamera&
       // Positive floats order like their bit patterns: the high word makes the nearest point win;
       // the low word carries the colour, so the resolve pass never touches the cloud again (equal
       // depths fall to the smaller packed colour: deterministic).
-      const std::uint64_t k = static_cast<std::uint64_t>(floatBits(zc)) << 32 | colours[begin + j];
+      const std::uint64_t k =
+          static_cast<std::uint64_t>(bitCast<std::uint32_t>(zc)) << 32 | colours[begin + j];
       const float magnification = block.extra[j];
       if (magnification <= 1.0f) {
         if (!(u >= -0.5f && u < u_hi && w >= -0.5f && w < v_hi)) continue;
@@ -322,7 +312,7 @@ void PointSplatter::renderZbuffer(const ColoredCloud& cloud, const TargetCamera&
       bgr[3 * c + 1] = hit ? static_cast<std::uint8_t>((k >> 8) & 0xff) : 0;
       bgr[3 * c + 2] = hit ? static_cast<std::uint8_t>((k >> 16) & 0xff) : 0;
       mask[c] = hit ? 255 : 0;
-      depth[c] = hit ? bitsToFloat(static_cast<std::uint32_t>(k >> 32)) : 0.0f;
+      depth[c] = hit ? bitCast<float>(static_cast<std::uint32_t>(k >> 32)) : 0.0f;
     }
   }
 }

@@ -15,6 +15,7 @@
 //
 // SVML kernels are element-wise (the 8 lanes never interact), so a scalar version is exact.
 #include "multimodal_nvs/core/depth/gp/numpy_math.hpp"
+#include "multimodal_nvs/core/common/bit_cast.hpp"
 
 #include <cmath>
 #include <cstdint>
@@ -26,7 +27,7 @@ namespace {
 
 // What an SSE/AVX operation returns for a NaN operand: the same NaN with the quiet bit set.
 double quietNan(double x) {
-  return doubleFromBits(doubleBits(x) | 0x0008000000000000ULL);
+  return bitCast<double>(bitCast<std::uint64_t>(x) | 0x0008000000000000ULL);
 }
 
 // The x86 "default NaN" (0/0 in SSE arithmetic): negative sign, quiet, zero payload.
@@ -139,11 +140,11 @@ constexpr double kExpHaSplit = 0x1.8000000000000p+32;
 
 // 2^e for a biased exponent field 1 <= e <= 2046 (0 gives +0, as in the kernel's bit surgery).
 double powerOfTwoFromField(int biased) {
-  return doubleFromBits(static_cast<std::uint64_t>(biased & 2047) << 52);
+  return bitCast<double>(static_cast<std::uint64_t>(biased & 2047) << 52);
 }
 
 double expRare(double x) {
-  const std::uint64_t bits = doubleBits(x);
+  const std::uint64_t bits = bitCast<std::uint64_t>(x);
   const int field = static_cast<int>((bits >> 52) & 2047);
   if (field == 2047) {                              // inf or NaN
     if (bits == 0xfff0000000000000ULL) return 0.0;  // exp(-inf) = +0
@@ -155,7 +156,8 @@ double expRare(double x) {
 
   const double shifted = x * kExpHa64Log2e + kExpHaRint;  // two roundings: mulsd, then addsd
   // The low 32 bits of the shifted value are n as a two's-complement integer.
-  const std::int32_t n = static_cast<std::int32_t>(static_cast<std::uint32_t>(doubleBits(shifted)));
+  const std::int32_t n =
+      static_cast<std::int32_t>(static_cast<std::uint32_t>(bitCast<std::uint64_t>(shifted)));
   const double nd = shifted - kExpHaRint;
   const int j = n & 63;
   const int m = n >> 6;  // floor(n / 64); the kernel only ever uses it modulo 2048
@@ -233,7 +235,8 @@ constexpr double kLogLn2 = 0x1.62e42fefa39efp-1;
 
 // VRCP14PD(m) rounded to 5 fractional bits (vrndscalepd imm 0x58), for m in [1, 2).
 double roundedReciprocal(double m) {
-  const std::uint32_t top16 = static_cast<std::uint32_t>((doubleBits(m) >> 36) & 0xffff);
+  const std::uint32_t top16 =
+      static_cast<std::uint32_t>((bitCast<std::uint64_t>(m) >> 36) & 0xffff);
   int k = 0;
   while (k < 16 && kLogRcpStepTop16[k] <= top16)
     ++k;
@@ -249,7 +252,7 @@ double numpyExp(double x) {
 
   const double shifted = fmaTowardZeroPositive(x, kExpLog2e, kExpShifter);
   const double n = shifted - kExpShifter;  // exact: x*log2e truncated to a multiple of 1/16
-  const int j = static_cast<int>(doubleBits(shifted) & 15);
+  const int j = static_cast<int>(bitCast<std::uint64_t>(shifted) & 15);
   const int m = static_cast<int>(std::floor(n));
 
   double r = std::fma(-n, kExpLn2Hi, x);  // vfnmadd: x - n*ln2_hi
@@ -272,7 +275,7 @@ double numpyLog(double x) {
   if (std::isnan(x)) return quietNan(x);
   // Lanes the kernel flags (vfpclasspd: +-0, +-inf, negative) go to __svml_dlog_cout_rare_internal.
   if (x == 0.0) return -std::numeric_limits<double>::infinity();  // -1/0
-  if (x < 0.0) return doubleFromBits(kDefaultNanBits);            // 0/0: x86 default NaN
+  if (x < 0.0) return bitCast<double>(kDefaultNanBits);           // 0/0: x86 default NaN
   if (std::isinf(x)) return x;                                    // +inf * +inf
 
   int e2 = 0;
@@ -283,7 +286,7 @@ double numpyLog(double x) {
   const double rcp = roundedReciprocal(m);
   const double big_r = std::fma(rcp, m, -1.0);  // vfmsub: rcp*m - 1
   if (rcp < 0.75) expo = expo + 1.0;
-  const double table = kLogTable[(doubleBits(rcp) >> 48) & 15];
+  const double table = kLogTable[(bitCast<std::uint64_t>(rcp) >> 48) & 15];
 
   const double a76 = std::fma(big_r, kLogA7, kLogA6);
   const double a98 = std::fma(big_r, kLogA9, kLogA8);

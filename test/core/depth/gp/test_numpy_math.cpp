@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 
+#include "multimodal_nvs/core/common/bit_cast.hpp"
 #include "multimodal_nvs/core/depth/gp/numpy_math.hpp"
 
 namespace mm = multimodal_nvs;
@@ -21,8 +22,8 @@ struct BitsPair {
 
 // Distance in units in the last place between two finite doubles of the same sign.
 std::int64_t ulpDistance(double a, double b) {
-  return std::llabs(static_cast<std::int64_t>(mm::doubleBits(a)) -
-                    static_cast<std::int64_t>(mm::doubleBits(b)));
+  return std::llabs(static_cast<std::int64_t>(mm::bitCast<std::uint64_t>(a)) -
+                    static_cast<std::int64_t>(mm::bitCast<std::uint64_t>(b)));
 }
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -237,8 +238,8 @@ const BitsPair kLogGolden[] = {
 }  // namespace
 
 TEST(NumpyMath, ExpAnalytic) {
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(0.0)), mm::doubleBits(1.0));
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(-0.0)), mm::doubleBits(1.0));
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(0.0)), mm::bitCast<std::uint64_t>(1.0));
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(-0.0)), mm::bitCast<std::uint64_t>(1.0));
   EXPECT_LE(ulpDistance(mm::numpyExp(1.0), M_E), 1);
   EXPECT_LE(ulpDistance(mm::numpyExp(-1.0), 1.0 / M_E), 1);
   EXPECT_LE(ulpDistance(mm::numpyExp(M_LN2), 2.0), 1);
@@ -255,7 +256,7 @@ TEST(NumpyMath, ExpAnalytic) {
 }
 
 TEST(NumpyMath, LogAnalytic) {
-  EXPECT_EQ(mm::doubleBits(mm::numpyLog(1.0)), mm::doubleBits(0.0));
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyLog(1.0)), mm::bitCast<std::uint64_t>(0.0));
   EXPECT_LE(ulpDistance(mm::numpyLog(2.0), M_LN2), 1);
   EXPECT_LE(ulpDistance(mm::numpyLog(M_E), 1.0), 1);
   EXPECT_LE(ulpDistance(mm::numpyLog(10.0), M_LN10), 1);
@@ -270,7 +271,7 @@ TEST(NumpyMath, LogAnalytic) {
     EXPECT_NEAR(mm::numpyLog(mm::numpyExp(y)), y, 1e-14) << "y=" << y;
   }
   // Subnormal arguments are handled exactly as numpy does (no flush to zero).
-  EXPECT_EQ(mm::doubleBits(mm::numpyLog(std::numeric_limits<double>::denorm_min())),
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyLog(std::numeric_limits<double>::denorm_min())),
             0xc0874385446d71c3ULL);
 }
 
@@ -278,21 +279,21 @@ TEST(NumpyMath, ExpSpecialValues) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(std::isnan(mm::numpyExp(nan)));
   // The NaN is propagated quietened, with sign and payload (as numpy returns it).
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(mm::doubleFromBits(0xfff8000000000000ULL))),
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(mm::bitCast<double>(0xfff8000000000000ULL))),
             0xfff8000000000000ULL);
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(mm::doubleFromBits(0x7ff4000000000123ULL))),
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(mm::bitCast<double>(0x7ff4000000000123ULL))),
             0x7ffc000000000123ULL);
   EXPECT_EQ(mm::numpyExp(kInf), kInf);
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(-kInf)), mm::doubleBits(0.0));
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(-kInf)), mm::bitCast<std::uint64_t>(0.0));
   EXPECT_EQ(mm::numpyExp(709.79), kInf);  // overflow above log(DBL_MAX) = 709.782712893384
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(709.782712893384)), 0x7fefffffffffff2aULL);
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(-746.0)), mm::doubleBits(0.0));
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(709.782712893384)), 0x7fefffffffffff2aULL);
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(-746.0)), mm::bitCast<std::uint64_t>(0.0));
   // Subnormal results, down to the smallest one.
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(-708.4)), 0x000ff15b469edf89ULL);
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(-745.0)), 0x0000000000000001ULL);
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(-745.1332191019411)), 0x0000000000000001ULL);
-  EXPECT_EQ(mm::doubleBits(mm::numpyExp(std::nextafter(-745.1332191019411, -kInf))),
-            mm::doubleBits(0.0));
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(-708.4)), 0x000ff15b469edf89ULL);
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(-745.0)), 0x0000000000000001ULL);
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(-745.1332191019411)), 0x0000000000000001ULL);
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyExp(std::nextafter(-745.1332191019411, -kInf))),
+            mm::bitCast<std::uint64_t>(0.0));
   // Tiny arguments.
   EXPECT_EQ(mm::numpyExp(std::numeric_limits<double>::denorm_min()), 1.0);
   EXPECT_EQ(mm::numpyExp(-std::numeric_limits<double>::denorm_min()), 1.0);
@@ -302,26 +303,26 @@ TEST(NumpyMath, ExpSpecialValues) {
 TEST(NumpyMath, LogSpecialValues) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(std::isnan(mm::numpyLog(nan)));
-  EXPECT_EQ(mm::doubleBits(mm::numpyLog(mm::doubleFromBits(0xfff0000000000001ULL))),
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyLog(mm::bitCast<double>(0xfff0000000000001ULL))),
             0xfff8000000000001ULL);
   EXPECT_EQ(mm::numpyLog(0.0), -kInf);
   EXPECT_EQ(mm::numpyLog(-0.0), -kInf);
   EXPECT_EQ(mm::numpyLog(kInf), kInf);
   // Negative arguments (including -inf and negative subnormals) give the x86 default NaN.
-  EXPECT_EQ(mm::doubleBits(mm::numpyLog(-1.0)), 0xfff8000000000000ULL);
-  EXPECT_EQ(mm::doubleBits(mm::numpyLog(-kInf)), 0xfff8000000000000ULL);
-  EXPECT_EQ(mm::doubleBits(mm::numpyLog(-std::numeric_limits<double>::denorm_min())),
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyLog(-1.0)), 0xfff8000000000000ULL);
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyLog(-kInf)), 0xfff8000000000000ULL);
+  EXPECT_EQ(mm::bitCast<std::uint64_t>(mm::numpyLog(-std::numeric_limits<double>::denorm_min())),
             0xfff8000000000000ULL);
 }
 
 TEST(NumpyMath, ExpMatchesNumpyBitForBit) {
   int mismatches = 0;
   for (const BitsPair& p : kExpGolden) {
-    const double got = mm::numpyExp(mm::doubleFromBits(p.in));
-    if (mm::doubleBits(got) != p.out) {
+    const double got = mm::numpyExp(mm::bitCast<double>(p.in));
+    if (mm::bitCast<std::uint64_t>(got) != p.out) {
       ++mismatches;
-      ADD_FAILURE() << std::hexfloat << "numpyExp(" << mm::doubleFromBits(p.in) << ") = " << got
-                    << ", np.exp gives " << mm::doubleFromBits(p.out);
+      ADD_FAILURE() << std::hexfloat << "numpyExp(" << mm::bitCast<double>(p.in) << ") = " << got
+                    << ", np.exp gives " << mm::bitCast<double>(p.out);
     }
   }
   EXPECT_EQ(mismatches, 0);
@@ -330,11 +331,11 @@ TEST(NumpyMath, ExpMatchesNumpyBitForBit) {
 TEST(NumpyMath, LogMatchesNumpyBitForBit) {
   int mismatches = 0;
   for (const BitsPair& p : kLogGolden) {
-    const double got = mm::numpyLog(mm::doubleFromBits(p.in));
-    if (mm::doubleBits(got) != p.out) {
+    const double got = mm::numpyLog(mm::bitCast<double>(p.in));
+    if (mm::bitCast<std::uint64_t>(got) != p.out) {
       ++mismatches;
-      ADD_FAILURE() << std::hexfloat << "numpyLog(" << mm::doubleFromBits(p.in) << ") = " << got
-                    << ", np.log gives " << mm::doubleFromBits(p.out);
+      ADD_FAILURE() << std::hexfloat << "numpyLog(" << mm::bitCast<double>(p.in) << ") = " << got
+                    << ", np.log gives " << mm::bitCast<double>(p.out);
     }
   }
   EXPECT_EQ(mismatches, 0);
@@ -344,9 +345,9 @@ TEST(NumpyMath, GoldenPairsAreNotGlibc) {
   // Guards the test's power: most golden pairs must be ones where glibc differs from numpy.
   int exp_differs = 0, log_differs = 0;
   for (const BitsPair& p : kExpGolden)
-    exp_differs += mm::doubleBits(std::exp(mm::doubleFromBits(p.in))) != p.out;
+    exp_differs += mm::bitCast<std::uint64_t>(std::exp(mm::bitCast<double>(p.in))) != p.out;
   for (const BitsPair& p : kLogGolden)
-    log_differs += mm::doubleBits(std::log(mm::doubleFromBits(p.in))) != p.out;
+    log_differs += mm::bitCast<std::uint64_t>(std::log(mm::bitCast<double>(p.in))) != p.out;
   EXPECT_GE(exp_differs, 150);
   EXPECT_GE(log_differs, 150);
 }

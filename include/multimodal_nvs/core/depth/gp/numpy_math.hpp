@@ -1,22 +1,6 @@
 #pragma once
 // numpy's float64 exp and log reproduced bit for bit (parity with the published reference code).
-#include <cstdint>
-#include <cstring>
-
 namespace multimodal_nvs {
-
-/// The IEEE-754 bits of a double, and the double of given bits (std::bit_cast before C++20): the
-/// kernels below and their tests work on the bits.
-inline std::uint64_t doubleBits(double x) {
-  std::uint64_t b;
-  std::memcpy(&b, &x, sizeof b);
-  return b;
-}
-inline double doubleFromBits(std::uint64_t b) {
-  double x;
-  std::memcpy(&x, &b, sizeof x);
-  return x;
-}
 
 /// numpy's float64 `np.exp` and `np.log`, reproduced bit for bit, one value at a time.
 ///
