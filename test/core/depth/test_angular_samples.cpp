@@ -44,10 +44,13 @@ TEST(PixelPredictions, SetNoPredictionResizesAndClears) {
   mm::PixelPredictions out;
   out.mean.assign(3, 1.0f);
   out.variance.assign(3, 2.0f);
-  mm::setNoPrediction(5, out);
-  ASSERT_EQ(out.mean.size(), 5u);
-  ASSERT_EQ(out.variance.size(), 5u);
-  for (int i = 0; i < 5; ++i) {
+  mm::StrideGrid grid;
+  grid.image = {5, 4};  // 3 x 2 grid pixels at stride 2
+  grid.stride = 2;
+  mm::setNoPrediction(grid, out);
+  ASSERT_EQ(out.mean.size(), 6u);
+  ASSERT_EQ(out.variance.size(), 6u);
+  for (int i = 0; i < 6; ++i) {
     EXPECT_TRUE(std::isnan(out.mean[i]));
     EXPECT_EQ(out.variance[i], mm::kNoPrediction);
   }

@@ -30,7 +30,7 @@ void predictConstant(const std::vector<AngularSample>& all_samples, const PixelA
       depths.push_back(s.depth);
   }
   if (depths.empty()) {
-    setNoPrediction(n, out);
+    setNoPrediction(angles.grid(), out);
     return;
   }
   double sum = 0.0;

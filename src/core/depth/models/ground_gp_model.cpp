@@ -306,7 +306,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
                           double median_depth, ThreadPool& pool, PixelPredictions& out) {
   const GroundPriorParams& g = params.ground;
   const std::size_t n = static_cast<std::size_t>(angles.grid().size());
-  setNoPrediction(n, out);
+  setNoPrediction(angles.grid(), out);
 
   const std::vector<AngularTriangle> triangles = triangulateSamples(samples, angles);
   std::vector<DenseVertexInfo> info(triangles.size());

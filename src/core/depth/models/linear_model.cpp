@@ -16,8 +16,7 @@ namespace multimodal_nvs {
 void predictLinear(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                    const DepthCompletionParams& /*params*/, ThreadPool& pool,
                    PixelPredictions& out) {
-  const std::size_t n = static_cast<std::size_t>(angles.grid().size());
-  setNoPrediction(n, out);
+  setNoPrediction(angles.grid(), out);
   const std::vector<AngularTriangle> triangles = triangulateSamples(samples, angles);
   std::vector<std::uint8_t> filled;
   rasterizeTriangles(triangles, angles, pool, filled,

@@ -120,8 +120,7 @@ void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAn
                     const DepthCompletionParams& params, ThreadPool& pool, PixelPredictions& out) {
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
-  const std::size_t n = static_cast<std::size_t>(grid.size());
-  setNoPrediction(n, out);
+  setNoPrediction(grid, out);
   const std::vector<AngularSample> samples = usableSamples(all_samples);
   if (samples.empty()) return;
 

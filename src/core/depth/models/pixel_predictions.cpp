@@ -5,7 +5,8 @@
 
 namespace multimodal_nvs {
 
-void setNoPrediction(std::size_t pixels, PixelPredictions& out) {
+void setNoPrediction(const StrideGrid& grid, PixelPredictions& out) {
+  const std::size_t pixels = static_cast<std::size_t>(grid.size());
   out.mean.assign(pixels, std::numeric_limits<float>::quiet_NaN());
   out.variance.assign(pixels, kNoPrediction);
 }

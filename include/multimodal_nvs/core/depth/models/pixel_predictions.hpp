@@ -16,9 +16,9 @@ struct PixelPredictions {
 /// Variance of a pixel that got no prediction.
 constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
 
-/// Sizes `out` to `pixels` with no prediction anywhere (mean NaN, variance kNoPrediction): where a
+/// Sizes `out` to the grid with no prediction anywhere (mean NaN, variance kNoPrediction): where a
 /// model that predicts only some pixels starts.
-void setNoPrediction(std::size_t pixels, PixelPredictions& out);
+void setNoPrediction(const StrideGrid& grid, PixelPredictions& out);
 
 /// Sizes `out` to the grid and sets every pixel to (mean, variance), in parallel: the buffers are
 /// reused across frames, so this is one full-image pass shared by both cores, not an allocation.
