@@ -2,47 +2,32 @@
 // the preset burst is rendered and published, and what a dropped set or a missing keyframe
 // reports. Plain gtest, no master: tf and the publishers are stand-ins.
 #include <gtest/gtest.h>
-#include <sensor_msgs/image_encodings.h>
 
-#include <cstring>
+#include <algorithm>
 
 #include "multimodal_nvs/ros/preset_burst.hpp"
 #include "multimodal_nvs/ros/renderer_session.hpp"
+#include "renderer_test_sets.hpp"
 
 namespace mm = multimodal_nvs;
 namespace rc = mm::ros_conversions;
-namespace enc = sensor_msgs::image_encodings;
 
 namespace {
 
-struct Set {
-  sensor_msgs::Image image, depth, mask;
-  sensor_msgs::CameraInfo info;
-};
-
-/// A 16x24 bgr8 image with depth `depth_m` everywhere on its stride-2 grid (8x12), all kept.
-Set makeSet(ros::Time stamp, float depth_m = 5.0f) {
-  Set set;
+/// makeSet(2) (12x16 image, depth on its 6x8 grid) stamped `stamp`; `with_depth` false leaves it
+/// without any depth.
+Set stampedSet(ros::Time stamp, bool with_depth = true) {
+  Set set = makeSet(2);
   set.image.header.stamp = stamp;
-  set.image.header.frame_id = "camera";
-  set.image.height = 16;
-  set.image.width = 24;
-  set.image.encoding = enc::BGR8;
-  set.image.step = 24 * 3;
-  set.image.data.assign(16 * 24 * 3, 120);
-  const int gh = 8, gw = 12;
-  set.depth.height = set.mask.height = set.info.height = gh;
-  set.depth.width = set.mask.width = set.info.width = gw;
-  set.depth.encoding = enc::TYPE_32FC1;
-  set.depth.step = gw * 4;
-  set.depth.data.resize(gh * gw * 4);
-  for (int i = 0; i < gh * gw; ++i)
-    std::memcpy(&set.depth.data[i * 4], &depth_m, 4);
-  set.mask.encoding = enc::MONO8;
-  set.mask.step = gw;
-  set.mask.data.assign(gh * gw, 255);
-  set.info.K = {10.0, 0, 6.0, 0, 10.0, 4.0, 0, 0, 1};
+  if (!with_depth) std::fill(set.depth.data.begin(), set.depth.data.end(), 0);
   return set;
+}
+
+/// A step that took a new keyframe stamped `stamp`.
+void expectNewKeyframe(const mm::RendererStep& step, ros::Time stamp) {
+  EXPECT_TRUE(step.fault.ok()) << step.fault.reason;
+  EXPECT_TRUE(step.keyframe);
+  EXPECT_EQ(step.keyframe_stamp, stamp);
 }
 
 mm::ConditioningRendererSettings settings(mm::TrajectorySource source) {
@@ -52,7 +37,7 @@ mm::ConditioningRendererSettings settings(mm::TrajectorySource source) {
   s.preset = mm::TrajectoryPreset::kLeft;
   s.magnitude = 0.2;
   s.num_frames = 3;
-  s.backprojection.render_size = {16, 24};
+  s.backprojection.render_size = {12, 16};
   s.backprojection.edge_threshold = 0.0f;  // a flat plane has no edge
   s.resize_depth = mm::DepthResize::kNo;   // one point per grid pixel
   s.threads = 1;
@@ -91,44 +76,49 @@ struct Node {
   }
 };
 
-mm::RendererStep step(mm::RendererSession& session, const Set& set,
-                      const mm::ConditioningRendererSettings& s) {
-  return session.onInputSet(set.image, set.depth, set.mask, set.info, s,
-                            std::chrono::steady_clock::now());
-}
+/// A fresh session on a Node; step() hands it one set that arrived now.
+class RendererSessionTest : public ::testing::Test {
+ protected:
+  mm::RendererStep step(const Set& set, const mm::ConditioningRendererSettings& s) {
+    return session.onInputSet(set.image, set.depth, set.mask, set.info, s,
+                              std::chrono::steady_clock::now());
+  }
+  /// The first set, stamped 10 s: always the keyframe.
+  mm::RendererStep firstKeyframe(const mm::ConditioningRendererSettings& s) {
+    const mm::RendererStep first = step(stampedSet(ros::Time(10, 0)), s);
+    expectNewKeyframe(first, ros::Time(10, 0));
+    return first;
+  }
+
+  Node node;
+  mm::RendererSession session = node.session();
+};
 
 }  // namespace
 
-TEST(RendererSession, TfModeTakesTheFirstSetAsKeyframeAndRendersEverySet) {
-  Node node;
-  mm::RendererSession session = node.session();
+TEST_F(RendererSessionTest, TfModeTakesTheFirstSetAsKeyframeAndRendersEverySet) {
   const auto s = settings(mm::TrajectorySource::kTf);
-  const mm::RendererStep first = step(session, makeSet(ros::Time(10, 0)), s);
-  EXPECT_TRUE(first.fault.ok()) << first.fault.reason;
-  EXPECT_TRUE(first.keyframe);
-  EXPECT_EQ(first.keyframe_stamp, ros::Time(10, 0));
-  EXPECT_EQ(first.keyframe_points, 8u * 12u);
+  const mm::RendererStep first = firstKeyframe(s);
+  EXPECT_EQ(first.keyframe_points, 6u * 8u - 1u);  // every grid pixel but the NaN one
   EXPECT_TRUE(first.live_frame);
   EXPECT_GE(first.frame_ms, first.render_ms);
   EXPECT_FALSE(first.burst);
   EXPECT_TRUE(first.error.empty());
 
-  const mm::RendererStep second = step(session, makeSet(ros::Time(10, 100000000)), s);
+  const mm::RendererStep second = step(stampedSet(ros::Time(10, 100000000)), s);
   EXPECT_FALSE(second.keyframe);  // interval 0: the keyframe stays
   EXPECT_TRUE(second.live_frame);
-  EXPECT_EQ(node.pose_lookups, (std::vector<std::string>{"map <- camera", "map <- camera"}));
+  EXPECT_EQ(node.pose_lookups, (std::vector<std::string>{"map <- cam", "map <- cam"}));
   EXPECT_EQ(node.engine_requests, (std::vector<int>{1, 1}));
   // Each live frame carries its own set's header, at the render size.
   EXPECT_EQ(node.published, (std::vector<ros::Time>{ros::Time(10, 0), ros::Time(10, 100000000)}));
-  EXPECT_EQ(node.published_sizes.back(), (mm::ImageSize{16, 24}));
+  EXPECT_EQ(node.published_sizes.back(), (mm::ImageSize{12, 16}));
 }
 
-TEST(RendererSession, TfModeWithoutTransformDropsTheSetAndTakesNoKeyframe) {
-  Node node;
+TEST_F(RendererSessionTest, TfModeWithoutTransformDropsTheSetAndTakesNoKeyframe) {
   node.tf_available = false;
-  mm::RendererSession session = node.session();
   const auto s = settings(mm::TrajectorySource::kTf);
-  const mm::RendererStep dropped = step(session, makeSet(ros::Time(10, 0)), s);
+  const mm::RendererStep dropped = step(stampedSet(ros::Time(10, 0)), s);
   EXPECT_EQ(dropped.fault.fault, rc::RendererFault::kTransformUnavailable);
   EXPECT_FALSE(dropped.keyframe);
   EXPECT_FALSE(dropped.live_frame);
@@ -136,18 +126,13 @@ TEST(RendererSession, TfModeWithoutTransformDropsTheSetAndTakesNoKeyframe) {
   EXPECT_TRUE(node.engine_requests.empty());
   // The keyframe is still due: the next set with a transform becomes it.
   node.tf_available = true;
-  const mm::RendererStep next = step(session, makeSet(ros::Time(11, 0)), s);
-  EXPECT_TRUE(next.keyframe);
-  EXPECT_EQ(next.keyframe_stamp, ros::Time(11, 0));
+  const mm::RendererStep next = step(stampedSet(ros::Time(11, 0)), s);
+  expectNewKeyframe(next, ros::Time(11, 0));
 }
 
-TEST(RendererSession, PresetModeRendersTheBurstOnANewKeyframeOnly) {
-  Node node;
-  mm::RendererSession session = node.session();
+TEST_F(RendererSessionTest, PresetModeRendersTheBurstOnANewKeyframeOnly) {
   const auto s = settings(mm::TrajectorySource::kPreset);
-  const mm::RendererStep first = step(session, makeSet(ros::Time(10, 0)), s);
-  EXPECT_TRUE(first.fault.ok()) << first.fault.reason;
-  EXPECT_TRUE(first.keyframe);
+  const mm::RendererStep first = firstKeyframe(s);
   EXPECT_TRUE(first.burst) << first.error;
   EXPECT_FALSE(first.live_frame);
   EXPECT_EQ(first.burst_frames, 3);
@@ -157,28 +142,26 @@ TEST(RendererSession, PresetModeRendersTheBurstOnANewKeyframeOnly) {
   EXPECT_TRUE(node.pose_lookups.empty());  // preset mode needs no tf
 
   // Between keyframes a set is only checked: nothing rendered, a bad one still reported.
-  const mm::RendererStep between = step(session, makeSet(ros::Time(10, 500000000)), s);
+  const mm::RendererStep between = step(stampedSet(ros::Time(10, 500000000)), s);
   EXPECT_TRUE(between.fault.ok());
   EXPECT_FALSE(between.keyframe || between.burst || between.live_frame);
-  Set bad = makeSet(ros::Time(10, 600000000));
+  Set bad = stampedSet(ros::Time(10, 600000000));
   bad.image.height = 40;  // the depth grid is no stride grid of it any more
-  bad.image.data.resize(40 * 24 * 3);
-  EXPECT_EQ(step(session, bad, s).fault.fault, rc::RendererFault::kGridSize);
+  bad.image.data.resize(40 * 16 * 3);
+  EXPECT_EQ(step(bad, s).fault.fault, rc::RendererFault::kGridSize);
   EXPECT_EQ(node.published.size(), 3u);
   EXPECT_EQ(node.engine_requests.size(), 1u);
 
   // ~set_keyframe: the next set is the keyframe and its burst follows.
   session.requestKeyframe();
-  const mm::RendererStep requested = step(session, makeSet(ros::Time(11, 0)), s);
-  EXPECT_TRUE(requested.keyframe);
+  const mm::RendererStep requested = step(stampedSet(ros::Time(11, 0)), s);
+  expectNewKeyframe(requested, ros::Time(11, 0));
   EXPECT_TRUE(requested.burst);
   EXPECT_EQ(node.published.size(), 6u);
   EXPECT_EQ(node.published[3], ros::Time(11, 0));  // stamped from the new keyframe
 }
 
-TEST(RendererSession, BurstNeedsAKeyframeWithPoints) {
-  Node node;
-  mm::RendererSession session = node.session();
+TEST_F(RendererSessionTest, BurstNeedsAKeyframeWithPoints) {
   const auto s = settings(mm::TrajectorySource::kPreset);
   const mm::RendererStep none = session.renderBurst(s);
   EXPECT_FALSE(none.burst);
@@ -187,12 +170,12 @@ TEST(RendererSession, BurstNeedsAKeyframeWithPoints) {
   EXPECT_TRUE(node.engine_requests.empty());
 
   // A set without depth is no keyframe: dropped, and ~render still has none.
-  const mm::RendererStep empty = step(session, makeSet(ros::Time(10, 0), 0.0f), s);
+  const mm::RendererStep empty = step(stampedSet(ros::Time(10, 0), false), s);
   EXPECT_EQ(empty.fault.fault, rc::RendererFault::kNoKeptPixel);
   EXPECT_FALSE(empty.keyframe);
   EXPECT_EQ(session.renderBurst(s).error, mm::burstUnavailableReason(false));
 
-  ASSERT_TRUE(step(session, makeSet(ros::Time(11, 0)), s).burst);
+  ASSERT_TRUE(step(stampedSet(ros::Time(11, 0)), s).burst);
   const mm::RendererStep again = session.renderBurst(s);
   EXPECT_TRUE(again.burst) << again.error;
   EXPECT_EQ(node.published.size(), 6u);
