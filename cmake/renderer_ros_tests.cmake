@@ -6,11 +6,15 @@ find_package(roslaunch REQUIRED)
 # Conversions and the Config <-> settings mapping: plain gtest, no master.
 catkin_add_gtest(test_renderer_conversions test/ros/test_renderer_conversions.cpp)
 target_link_libraries(test_renderer_conversions multimodal_nvs_ros ${GTEST_MAIN_LIBRARIES})
-# The keyframe policy and keyframe, and the preset burst: plain gtests, no master.
+# The keyframe policy and keyframe, the preset burst and the per-frame steps: plain gtests, no
+# master.
 catkin_add_gtest(test_renderer_keyframe test/ros/test_renderer_keyframe.cpp)
 target_link_libraries(test_renderer_keyframe multimodal_nvs_ros ${GTEST_MAIN_LIBRARIES})
 catkin_add_gtest(test_preset_burst test/ros/test_preset_burst.cpp)
 target_link_libraries(test_preset_burst multimodal_nvs_ros ${GTEST_MAIN_LIBRARIES})
+# The per-frame steps (keyframe, live view, burst) with stand-ins for tf and the publishers.
+catkin_add_gtest(test_renderer_session test/ros/test_renderer_session.cpp)
+target_link_libraries(test_renderer_session multimodal_nvs_ros ${GTEST_MAIN_LIBRARIES})
 
 # The nodelet in both trajectory modes (gtest-in-rostest), loaded into a manager and as the
 # standalone node, through launch/conditioning_renderer.launch.

@@ -1,10 +1,9 @@
 // multimodal_nvs/ConditioningRenderer: the camera image with the depth nodelet's kept depth in;
 // conditioning frames (colour, hole mask, depth, camera_info, labelled preview) out, rendered from
 // a keyframe into the live camera pose from tf, or along a preset trajectory as a burst with an
-// optional GEN3C export. Wiring only: conversions live in
-// multimodal_nvs/ros/renderer_conversions.hpp, the keyframe policy and cloud in
-// ros/renderer_keyframe.hpp, the preset burst in ros/preset_burst.hpp, and rendering in the core's
-// burst entry point (core/render/render_burst.hpp, as render_conditioning uses it).
+// optional GEN3C export. Wiring only: what a frame does is ros/renderer_session.hpp (conversions in
+// ros/renderer_conversions.hpp, the keyframe policy and cloud in ros/renderer_keyframe.hpp, the
+// preset burst in ros/preset_burst.hpp, rendering in the core's core/render/render_burst.hpp).
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
 #include <nodelet/nodelet.h>
@@ -17,30 +16,18 @@
 #include <chrono>
 #include <memory>
 #include <mutex>
-#include <optional>
 
 #include "conditioning_renderer_diagnostics.hpp"
 #include "conditioning_renderer_inputs.hpp"
 #include "conditioning_renderer_outputs.hpp"
-#include "multimodal_nvs/core/common/errors.hpp"
-#include "multimodal_nvs/core/render/render_burst.hpp"
 #include "multimodal_nvs/ros/preset_burst.hpp"
 #include "multimodal_nvs/ros/renderer_conversions.hpp"
-#include "multimodal_nvs/ros/renderer_keyframe.hpp"
+#include "multimodal_nvs/ros/renderer_session.hpp"
 #include "nodelet_state.hpp"
 
 namespace multimodal_nvs {
 
 namespace rc = ros_conversions;
-
-namespace {
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
-
-}  // namespace
 
 class ConditioningRendererNodelet : public nodelet::Nodelet {
  private:
@@ -51,17 +38,12 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   void connectCb();
   void onFrame(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::ImageConstPtr& mask, const sensor_msgs::CameraInfoConstPtr& info);
-  bool lookupCameraPose(const std::string& world_frame, const std_msgs::Header& header,
-                        Eigen::Matrix4d& camera_to_world);
-  bool takeKeyframe(rc::RendererInput& input, const Eigen::Matrix4d& camera_to_world,
-                    const Settings& settings);
-  const ColoredCloud* keyframeCloud(const Settings& settings);
-  void renderLive(const rc::RendererInput& target, const Eigen::Matrix4d& camera_to_world,
-                  const Settings& settings, std::chrono::steady_clock::time_point start);
-  bool renderBurst(const Settings& settings, std::string& report);
+  rc::RendererStatus lookupCameraPose(const std::string& world_frame,
+                                      const std_msgs::Header& header,
+                                      Eigen::Matrix4d& camera_to_world);
   bool onSetKeyframe(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool onRender(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
-  bool accept(const rc::RendererStatus& status);
+  void count(const RendererStep& step);
   void reconfigure(Config& config, uint32_t level);
 
   // Static parameters (read once in onInit).
@@ -91,10 +73,8 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
 
   // Keyframe and renderer, shared by the frame callback and the ~render service.
   std::mutex state_mutex_;
-  std::optional<RendererKeyframe> keyframe_;
-  KeyframeSchedule keyframe_schedule_;
+  std::unique_ptr<RendererSession> session_;
   ThreadCountCached<PointSplatter> splatter_;
-  std::vector<RenderedFrame> frames_;  // reused between live frames
   PerFaultLogThrottle<rc::kRendererFaultCount> log_throttle_;
   ConditioningRendererDiagnostics diagnostics_;
 };
@@ -109,6 +89,14 @@ void ConditioningRendererNodelet::onInit() {
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
   diagnostics_.start(nh, pnh, getName());
+  session_ = std::make_unique<RendererSession>(RendererSessionIo{
+      [this](const std::string& world_frame, const std_msgs::Header& header,
+             Eigen::Matrix4d& pose) { return lookupCameraPose(world_frame, header, pose); },
+      [this](int threads) -> PointSplatter& { return splatter_.forThreads(threads); },
+      [this](const RenderedFrame& frame, const PinholeIntrinsics& intrinsics, const ImageSize& size,
+             const std_msgs::Header& header) {
+        outputs_.publish(frame, intrinsics, size, header);
+      }});
 
   // The .cfg defaults first; the server then applies the parameter server (YAML) through the same
   // mapping and subscribes the inputs if the settings alone want them (an exported preset).
@@ -149,122 +137,34 @@ void ConditioningRendererNodelet::onFrame(const sensor_msgs::ImageConstPtr& imag
                                           const sensor_msgs::ImageConstPtr& depth,
                                           const sensor_msgs::ImageConstPtr& mask,
                                           const sensor_msgs::CameraInfoConstPtr& info) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto arrival = std::chrono::steady_clock::now();
   diagnostics_.countSet();
   const Settings settings = settings_.get();
   std::lock_guard<std::mutex> lock(state_mutex_);
-  const bool keyframe = keyframe_schedule_.due(image->header.stamp, settings.keyframe_interval);
-  const bool live = settings.source == TrajectorySource::kTf;
-  if (!keyframe && !live) {  // preset mode between keyframes: checked and counted, nothing to do
-    rc::RendererInput unused;
-    accept(rc::rendererInputFromMessages(*image, *depth, *mask, *info, false, unused));
-    return;
-  }
-  rc::RendererInput input;
-  if (!accept(rc::rendererInputFromMessages(*image, *depth, *mask, *info, keyframe, input))) return;
-  Eigen::Matrix4d camera_to_world = Eigen::Matrix4d::Identity();
-  if (live && !lookupCameraPose(settings.world_frame, input.header, camera_to_world)) return;
-  if (keyframe) {
-    // takeKeyframe moves `input` into the keyframe: render from the keyframe's copy below.
-    if (!takeKeyframe(input, camera_to_world, settings)) return;
-    if (!live) {
-      std::string report;
-      if (!renderBurst(settings, report)) NODELET_ERROR_THROTTLE(2.0, "%s", report.c_str());
-      return;
-    }
-  }
-  renderLive(keyframe ? keyframe_->input() : input, camera_to_world, settings, start);
+  const RendererStep step = session_->onInputSet(*image, *depth, *mask, *info, settings, arrival);
+  count(step);
+  if (!step.error.empty()) NODELET_ERROR_THROTTLE(2.0, "%s", step.error.c_str());
 }
 
-bool ConditioningRendererNodelet::lookupCameraPose(const std::string& world_frame,
-                                                   const std_msgs::Header& header,
-                                                   Eigen::Matrix4d& camera_to_world) {
+rc::RendererStatus ConditioningRendererNodelet::lookupCameraPose(const std::string& world_frame,
+                                                                 const std_msgs::Header& header,
+                                                                 Eigen::Matrix4d& camera_to_world) {
   try {
     camera_to_world =
         tf2::transformToEigen(
             tf_buffer_->lookupTransform(world_frame, header.frame_id, header.stamp, tf_timeout_))
             .matrix();
-    return true;
+    return rc::RendererStatus::success();
   } catch (const tf2::TransformException& e) {
-    return accept(rc::RendererStatus::failure(
+    return rc::RendererStatus::failure(
         rc::RendererFault::kTransformUnavailable,
-        "tf " + world_frame + " -> '" + header.frame_id + "': " + e.what()));
+        "tf " + world_frame + " -> '" + header.frame_id + "': " + e.what());
   }
-}
-
-/// Makes `input` the keyframe if its cloud can be built; otherwise keeps the previous one.
-bool ConditioningRendererNodelet::takeKeyframe(rc::RendererInput& input,
-                                               const Eigen::Matrix4d& camera_to_world,
-                                               const Settings& settings) {
-  const auto start = std::chrono::steady_clock::now();
-  if (!accept(RendererKeyframe::make(std::move(input), camera_to_world, settings, keyframe_))) {
-    return false;
-  }
-  keyframe_schedule_.taken(keyframe_->input().header.stamp);
-  diagnostics_.countKeyframe(keyframe_->cloud().size(), millisecondsSince(start));
-  NODELET_DEBUG("keyframe at %.3f: %zu points", keyframe_->input().header.stamp.toSec(),
-                keyframe_->cloud().size());
-  return true;
-}
-
-/// The keyframe's cloud for the current parameters; nullptr (counted) when there is none.
-const ColoredCloud* ConditioningRendererNodelet::keyframeCloud(const Settings& settings) {
-  if (!keyframe_) return nullptr;
-  rc::RendererStatus status;
-  const ColoredCloud* cloud = keyframe_->cloudFor(settings, status);
-  accept(status);
-  return cloud;
-}
-
-void ConditioningRendererNodelet::renderLive(const rc::RendererInput& target,
-                                             const Eigen::Matrix4d& camera_to_world,
-                                             const Settings& settings,
-                                             std::chrono::steady_clock::time_point start) {
-  const ColoredCloud* cloud = keyframeCloud(settings);
-  if (!cloud) return;
-  const ImageSize size = settings.renderSize();
-  const Trajectory view = liveView(*keyframe_, target, camera_to_world, size);
-  const auto render_start = std::chrono::steady_clock::now();
-  try {
-    splatter_.forThreads(settings.threads).render(*cloud, view, 0, 1, settings.splat, frames_);
-  } catch (const InputError& e) {  // inputs and parameters were validated: not expected
-    NODELET_ERROR_THROTTLE(2.0, "rendering failed: %s", e.what());
-    return;
-  }
-  const double render_ms = millisecondsSince(render_start);
-  outputs_.publish(frames_[0], view.cameras[0].intrinsics, size, target.header);
-  diagnostics_.countFrame(render_ms, millisecondsSince(start));
-}
-
-/// The preset burst from the keyframe; `report` says what happened, or why not.
-bool ConditioningRendererNodelet::renderBurst(const Settings& settings, std::string& report) {
-  const auto start = std::chrono::steady_clock::now();
-  const ColoredCloud* cloud = keyframeCloud(settings);
-  if (!cloud) {
-    report = burstUnavailableReason(keyframe_.has_value());
-    return false;
-  }
-  const PresetBurstResult burst = renderPresetBurst(
-      splatter_.forThreads(settings.threads), *keyframe_, *cloud, settings,
-      [this, &settings](const RenderedFrame& frame, const TargetCamera& camera,
-                        const std_msgs::Header& header) {
-        outputs_.publish(frame, camera.intrinsics, settings.renderSize(), header);
-      },
-      [this](const std::string& warning) { NODELET_WARN_ONCE("%s", warning.c_str()); });
-  if (!burst.ok) {
-    report = burst.error;
-    return false;
-  }
-  const double burst_ms = millisecondsSince(start);
-  diagnostics_.countBurst(settings.num_frames, burst_ms);
-  report = burstReport(settings, burst_ms, burst.gen3c_folder);
-  NODELET_INFO("%s", report.c_str());
-  return true;
 }
 
 bool ConditioningRendererNodelet::onSetKeyframe(std_srvs::Trigger::Request&,
                                                 std_srvs::Trigger::Response& res) {
-  keyframe_schedule_.request();
+  session_->requestKeyframe();
   res.success = true;
   res.message = "the next synchronized input set becomes the keyframe";
   bool subscribed;
@@ -280,20 +180,35 @@ bool ConditioningRendererNodelet::onRender(std_srvs::Trigger::Request&,
                                            std_srvs::Trigger::Response& res) {
   const Settings settings = settings_.get();
   std::lock_guard<std::mutex> lock(state_mutex_);
-  res.success = renderBurst(settings, res.message);
+  const RendererStep step = session_->renderBurst(settings);
+  count(step);
+  res.success = step.burst;
+  res.message = step.burst ? step.report : step.error;
   if (!res.success) NODELET_ERROR("~render: %s", res.message.c_str());
   return true;
 }
 
-/// Counts and logs a rejected input, throttled per reason (so that one recurring fault does not
-/// hide another); true when `status` is ok. Called with state_mutex_ held.
-bool ConditioningRendererNodelet::accept(const rc::RendererStatus& status) {
-  if (status.ok()) return true;
-  diagnostics_.countFault(status.fault);
-  if (log_throttle_.due(status.fault)) {
-    NODELET_ERROR("dropping input set: %s [%s]", status.reason.c_str(), rc::toString(status.fault));
+/// Counts and logs what a step did; a rejected input set is logged throttled per reason (so that
+/// one recurring fault does not hide another). Called with state_mutex_ held.
+void ConditioningRendererNodelet::count(const RendererStep& step) {
+  if (!step.fault.ok()) {
+    diagnostics_.countFault(step.fault.fault);
+    if (log_throttle_.due(step.fault.fault)) {
+      NODELET_ERROR("dropping input set: %s [%s]", step.fault.reason.c_str(),
+                    rc::toString(step.fault.fault));
+    }
   }
-  return false;
+  if (step.keyframe) {
+    diagnostics_.countKeyframe(step.keyframe_points, step.keyframe_ms);
+    NODELET_DEBUG("keyframe at %.3f: %zu points", step.keyframe_stamp.toSec(),
+                  step.keyframe_points);
+  }
+  if (step.live_frame) diagnostics_.countFrame(step.render_ms, step.frame_ms);
+  if (!step.warning.empty()) NODELET_WARN_ONCE("%s", step.warning.c_str());
+  if (step.burst) {
+    diagnostics_.countBurst(step.burst_frames, step.burst_ms);
+    NODELET_INFO("%s", step.report.c_str());
+  }
 }
 
 void ConditioningRendererNodelet::reconfigure(Config& config, uint32_t /*level*/) {

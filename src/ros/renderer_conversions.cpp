@@ -12,6 +12,8 @@
 
 #include "message_helpers.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/stride_grid.hpp"
+#include "multimodal_nvs/core/render/backprojection.hpp"
 
 namespace multimodal_nvs {
 
@@ -254,11 +256,9 @@ cv::Mat depthMetres(const sensor_msgs::Image& msg) {
 }  // namespace
 
 RendererStatus gridStride(const ImageSize& image, const ImageSize& grid, int& stride) {
-  for (int s = 1; s <= 64; ++s) {
-    if ((image.height + s - 1) / s == grid.height && (image.width + s - 1) / s == grid.width) {
-      stride = s;
-      return RendererStatus::success();
-    }
+  if (const std::optional<StrideGrid> found = strideGridOfSize(image, grid)) {
+    stride = found->stride;
+    return RendererStatus::success();
   }
   return RendererStatus::failure(
       RendererFault::kGridSize,
@@ -288,10 +288,8 @@ RendererStatus rendererInputFromMessages(const sensor_msgs::Image& image,
   out.grid_size = grid;
   out.stride = stride;
   out.grid_intrinsics = grid_k;
-  // The grid has no half-pixel shift (it starts at pixel 0), so the image's K is the grid's times
-  // s.
-  out.image_intrinsics = {grid_k.fx * stride, grid_k.fy * stride, grid_k.cx * stride,
-                          grid_k.cy * stride};
+  const StrideGrid stride_grid{image_size, stride};
+  out.image_intrinsics = stride_grid.imageIntrinsics(grid_k);
   out.image_bgr.release();
   out.grid_bgr.release();
   out.depth.release();
@@ -302,17 +300,7 @@ RendererStatus rendererInputFromMessages(const sensor_msgs::Image& image,
   status = fromConversion(rgbFromImage(image, rgb), "image");
   if (!status.ok()) return status;
   cv::cvtColor(rgb, out.image_bgr, cv::COLOR_RGB2BGR);  // a copy: the message may go away
-  if (stride == 1) {
-    out.grid_bgr = out.image_bgr;
-  } else {
-    out.grid_bgr.create(grid.height, grid.width, CV_8UC3);
-    for (int r = 0; r < grid.height; ++r) {
-      const cv::Vec3b* src = out.image_bgr.ptr<cv::Vec3b>(r * stride);
-      cv::Vec3b* dst = out.grid_bgr.ptr<cv::Vec3b>(r);
-      for (int c = 0; c < grid.width; ++c)
-        dst[c] = src[c * stride];
-    }
-  }
+  out.grid_bgr = sampleImageOnGrid(out.image_bgr, stride_grid);
   out.depth = depthMetres(depth);
   const cv::Mat wrapped(grid.height, grid.width, CV_8UC1,
                         const_cast<std::uint8_t*>(mask.data.data()), mask.step);

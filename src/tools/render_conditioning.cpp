@@ -98,11 +98,11 @@ cv::Mat readNpyImage(const std::string& path, const std::string& what) {
   return out;
 }
 
-/// complete_depth --stride s samples pixels (0, s, 2s, ...) of the image with the image's K; the
-/// same grid is a camera of its own with K / s (no half-pixel shift, as the grid starts at 0).
-int inferStride(const cv::Mat& image, const cv::Mat& depth, const std::string& depth_path) {
-  for (int s = 1; s <= 64; ++s) {
-    if ((image.rows + s - 1) / s == depth.rows && (image.cols + s - 1) / s == depth.cols) return s;
+/// The stride grid of the image that `depth` (complete_depth --stride s output) sits on.
+mm::StrideGrid depthGrid(const cv::Mat& image, const cv::Mat& depth,
+                         const std::string& depth_path) {
+  if (const auto grid = mm::strideGridOfSize({image.rows, image.cols}, {depth.rows, depth.cols})) {
+    return *grid;
   }
   throw mm::InputError(depth_path + ": depth map is " + std::to_string(depth.rows) + "x" +
                        std::to_string(depth.cols) + " but the image is " +
@@ -318,17 +318,9 @@ int run(int argc, char** argv) {
                std::atof(v[3].c_str())};
     k_image.validate("--intrinsics");
   }
-  const int stride = inferStride(image, depth, depth_path);
-  cv::Mat grid_image = image;
-  mm::PinholeIntrinsics k_grid = k_image;
-  if (stride > 1) {
-    grid_image.create(depth.rows, depth.cols, CV_8UC3);
-    for (int r = 0; r < depth.rows; ++r) {
-      for (int c = 0; c < depth.cols; ++c)
-        grid_image.at<cv::Vec3b>(r, c) = image.at<cv::Vec3b>(r * stride, c * stride);
-    }
-    k_grid = {k_image.fx / stride, k_image.fy / stride, k_image.cx / stride, k_image.cy / stride};
-  }
+  const mm::StrideGrid grid = depthGrid(image, depth, depth_path);
+  const cv::Mat grid_image = mm::sampleImageOnGrid(image, grid);
+  const mm::PinholeIntrinsics k_grid = grid.gridIntrinsics(k_image);
 
   mm::BackprojectionParams prep;
   const std::optional<mm::DepthResize> resize =
@@ -456,7 +448,7 @@ int run(int argc, char** argv) {
   json << "{\"frames\": " << num_frames << ", \"size\": [" << render_size.height << ", "
        << render_size.width << "], \"splat\": \"" << mm::toString(splat.mode)
        << "\", \"trajectory\": \"" << mm::cli::jsonEscape(source)
-       << "\", \"points\": " << cloud.size() << ", \"depth_stride\": " << stride
+       << "\", \"points\": " << cloud.size() << ", \"depth_stride\": " << grid.stride
        << ", \"resized_to_render\": " << (prep.resize_to_render ? "true" : "false")
        << ", \"threads\": " << splatter.threads() << ", \"cloud_ms\": " << jsonNumber(cloud_ms)
        << ", \"render_ms\": " << jsonNumber(stats.render_ms)

@@ -133,7 +133,8 @@ RendererStatus rendererInputFromMessages(const sensor_msgs::Image& image,
                                          const sensor_msgs::CameraInfo& depth_info,
                                          bool convert_pixels, RendererInput& out);
 
-/// The stride s with ceil(image / s) == grid on both axes (the depth nodelet's StrideGrid), 1..64.
+/// The stride of strideGridOfSize(image, grid) (core/common/stride_grid.hpp); kGridSize naming
+/// both sizes when no stride fits.
 RendererStatus gridStride(const ImageSize& image, const ImageSize& grid, int& stride);
 
 // ---- Outputs

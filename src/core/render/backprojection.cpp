@@ -16,6 +16,22 @@ double ColoredCloud::medianDepth() const {
   return sorted[mid];
 }
 
+cv::Mat sampleImageOnGrid(const cv::Mat& image_bgr, const StrideGrid& grid) {
+  if (image_bgr.type() != CV_8UC3 || image_bgr.rows != grid.image.height ||
+      image_bgr.cols != grid.image.width) {
+    throw InputError("image to sample must be CV_8UC3 of the grid's image size");
+  }
+  if (grid.stride == 1) return image_bgr;
+  cv::Mat out(grid.rows(), grid.cols(), CV_8UC3);
+  for (int r = 0; r < out.rows; ++r) {
+    const cv::Vec3b* src = image_bgr.ptr<cv::Vec3b>(r * grid.stride);
+    cv::Vec3b* dst = out.ptr<cv::Vec3b>(r);
+    for (int c = 0; c < out.cols; ++c)
+      dst[c] = src[c * grid.stride];
+  }
+  return out;
+}
+
 namespace {
 
 void requireDepth(const cv::Mat& depth) {

@@ -6,6 +6,27 @@
 
 namespace mm = multimodal_nvs;
 
+TEST(Backprojection, SampleImageOnGridTakesEveryStrideThPixel) {
+  cv::Mat image(5, 7, CV_8UC3);
+  for (int r = 0; r < 5; ++r) {
+    for (int c = 0; c < 7; ++c)
+      image.at<cv::Vec3b>(r, c) = {uchar(r), uchar(c), uchar(10 * r + c)};
+  }
+  const cv::Mat grid = mm::sampleImageOnGrid(image, {{5, 7}, 2});
+  ASSERT_EQ(grid.rows, 3);  // ceil(5 / 2) x ceil(7 / 2)
+  ASSERT_EQ(grid.cols, 4);
+  ASSERT_EQ(grid.type(), CV_8UC3);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c)
+      EXPECT_EQ(grid.at<cv::Vec3b>(r, c), image.at<cv::Vec3b>(2 * r, 2 * c)) << r << "," << c;
+  }
+  // Stride 1 is the image itself, not a copy.
+  const cv::Mat same = mm::sampleImageOnGrid(image, {{5, 7}, 1});
+  EXPECT_EQ(same.data, image.data);
+  EXPECT_THROW(mm::sampleImageOnGrid(image, {{6, 7}, 2}), mm::InputError);
+  EXPECT_THROW(mm::sampleImageOnGrid(cv::Mat(5, 7, CV_8UC1), {{5, 7}, 2}), mm::InputError);
+}
+
 TEST(Backprojection, LiftsKeptPixelsWithTheirColour) {
   const mm::PinholeIntrinsics k{50.0, 40.0, 3.0, 2.0};
   cv::Mat depth(4, 6, CV_32FC1, cv::Scalar(-1.0f));

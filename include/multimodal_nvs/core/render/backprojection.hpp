@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "multimodal_nvs/core/common/camera.hpp"
+#include "multimodal_nvs/core/common/stride_grid.hpp"
 
 namespace multimodal_nvs {
 
@@ -48,6 +49,12 @@ cv::Mat scatterDepthNearest(const cv::Mat& depth, const cv::Mat& valid, ImageSiz
 /// window x window neighbourhood. Max and min ignore the outside of the image; the mean counts the
 /// outside as 0 (max/avg pooling with zero padding, as GEN3C's filter does). CV_8UC1.
 cv::Mat reliableDepthMask(const cv::Mat& depth, float threshold, int window);
+
+/// The colour of the full image (CV_8UC3, `grid.image` in size) at the pixels of its stride grid,
+/// (r s, c s) for grid pixel (r, c), so that a depth map on that grid is lifted with its colours;
+/// `image_bgr` itself (shared, not copied) at stride 1. Throws InputError on a size or type
+/// mismatch.
+cv::Mat sampleImageOnGrid(const cv::Mat& image_bgr, const StrideGrid& grid);
 
 /// Lifts every pixel with depth > 0 to P = z K^-1 [u, v, 1] with the colour of `image_bgr`
 /// (CV_8UC3, same size as `depth`, CV_32FC1). Throws InputError when sizes or types disagree.
