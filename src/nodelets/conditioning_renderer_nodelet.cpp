@@ -108,8 +108,12 @@ void ConditioningRendererNodelet::onInit() {
                   boost::placeholders::_2, boost::placeholders::_3, boost::placeholders::_4));
   {
     std::lock_guard<std::mutex> lock(connect_mutex_);
-    outputs_.advertise(*it_, static_cast<uint32_t>(std::max(1, publisher_queue_size_)),
-                       [this] { connectCb(); });
+    const image_transport::SubscriberStatusCallback image_cb =
+        boost::bind(&ConditioningRendererNodelet::connectCb, this);
+    const ros::SubscriberStatusCallback info_cb =
+        boost::bind(&ConditioningRendererNodelet::connectCb, this);
+    outputs_.advertise(*it_, static_cast<uint32_t>(std::max(1, publisher_queue_size_)), image_cb,
+                       info_cb);
     advertised_ = true;
   }
   reconfigure_server_ =

@@ -7,13 +7,15 @@ namespace multimodal_nvs {
 
 namespace rc = ros_conversions;
 
-void ConditioningRendererOutputs::advertise(image_transport::ImageTransport& it,
-                                            uint32_t queue_size,
-                                            const boost::function<void()>& on_connect) {
-  const image_transport::SubscriberStatusCallback image_cb =
-      [on_connect](const image_transport::SingleSubscriberPublisher&) { on_connect(); };
-  const ros::SubscriberStatusCallback info_cb =
-      [on_connect](const ros::SingleSubscriberPublisher&) { on_connect(); };
+// image_transport copies these callbacks into its own binders and may destroy one copy on a
+// roscpp thread while another thread still calls another (at shutdown). A boost::bind of a member
+// function and `this` sits inside boost::function's buffer and is trivially destroyed; a lambda
+// holding a boost::function is heap-allocated, and its destruction is the write ThreadSanitizer
+// reports against that call. So the nodelet passes plain boost::bind objects.
+void ConditioningRendererOutputs::advertise(
+    image_transport::ImageTransport& it, uint32_t queue_size,
+    const image_transport::SubscriberStatusCallback& image_cb,
+    const ros::SubscriberStatusCallback& info_cb) {
   image_ =
       it.advertiseCamera("conditioning/image", queue_size, image_cb, image_cb, info_cb, info_cb);
   mask_ = it.advertise("conditioning/mask", queue_size, image_cb, image_cb);

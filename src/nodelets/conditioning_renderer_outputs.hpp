@@ -4,8 +4,6 @@
 #include <image_transport/camera_publisher.h>
 #include <image_transport/image_transport.h>
 
-#include <boost/function.hpp>
-
 #include "multimodal_nvs/core/common/camera.hpp"
 #include "multimodal_nvs/core/render/splatting.hpp"
 
@@ -13,10 +11,11 @@ namespace multimodal_nvs {
 
 class ConditioningRendererOutputs {
  public:
-  /// conditioning/{image, camera_info, mask, depth, preview}; `on_connect` runs when a subscriber
-  /// of any of them comes or goes.
+  /// conditioning/{image, camera_info, mask, depth, preview}; the callbacks run when a subscriber
+  /// of any of them comes or goes. Pass plain boost::bind objects (see the .cpp).
   void advertise(image_transport::ImageTransport& it, uint32_t queue_size,
-                 const boost::function<void()>& on_connect);
+                 const image_transport::SubscriberStatusCallback& image_cb,
+                 const ros::SubscriberStatusCallback& info_cb);
   bool anySubscribed() const;
   void publish(const RenderedFrame& frame, const PinholeIntrinsics& intrinsics,
                const ImageSize& size, const std_msgs::Header& header);
