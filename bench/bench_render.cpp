@@ -86,19 +86,17 @@ void BM_Render121Gen3c(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_Render121Zbuffer)
-    ->Arg(2)
-    ->Arg(1)
-    ->Unit(benchmark::kMillisecond)
-    ->Iterations(1)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
-BENCHMARK(BM_Render121Gen3c)
-    ->Arg(2)
-    ->Arg(1)
-    ->Unit(benchmark::kMillisecond)
-    ->Iterations(1)
-    ->MeasureProcessCPUTime()
-    ->UseRealTime();
+// One run per thread count (2, then 1): a full 121-frame trajectory per iteration.
+static void renderCases(benchmark::internal::Benchmark* b) {
+  b->Arg(2)
+      ->Arg(1)
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(1)
+      ->MeasureProcessCPUTime()
+      ->UseRealTime();
+}
+
+BENCHMARK(BM_Render121Zbuffer)->Apply(renderCases);
+BENCHMARK(BM_Render121Gen3c)->Apply(renderCases);
 
 BENCHMARK_MAIN();
