@@ -143,6 +143,17 @@ namespace {
 /// scatter into the image then runs over the block's results.
 constexpr int kBlock = 1024;
 
+/// Calls f(begin, m, x, y, z) for each run of at most kBlock points of the cloud: both splatting
+/// loops project a block at once so that the projection vectorises.
+template <class F>
+void forEachPointBlock(const ColoredCloud& cloud, F&& f) {
+  const std::size_t n = cloud.size();
+  for (std::size_t begin = 0; begin < n; begin += kBlock) {
+    const int m = static_cast<int>(std::min<std::size_t>(kBlock, n - begin));
+    f(begin, m, cloud.x.data() + begin, cloud.y.data() + begin, cloud.z.data() + begin);
+  }
+}
+
 struct ProjectedBlock {
   alignas(64) float u[kBlock];
   alignas(64) float v[kBlock];
@@ -240,63 +251,56 @@ void PointSplatter::renderZbuffer(const ColoredCloud& cloud, const TargetCamera&
           : 0.0f;
   const int max_fp = params.max_footprint;
   const float u_hi = width - 0.5f, v_hi = height - 0.5f;
-  const std::size_t n = cloud.size();
-  const float* px = cloud.x.data();
-  const float* py = cloud.y.data();
-  const float* pz = cloud.z.data();
   const std::uint32_t* colours = cloud.bgr.data();
   ProjectedBlock block;
 
-  for (std::size_t begin = 0; begin < n; begin += kBlock) {
-    const int m = static_cast<int>(std::min<std::size_t>(kBlock, n - begin));
-    const float* bx = px + begin;
-    const float* by = py + begin;
-    const float* bz = pz + begin;
-    for (int j = 0; j < m; ++j) {
-      const float x = bx[j], y = by[j], z = bz[j];
-      const float zc = vt.r[6] * x + vt.r[7] * y + vt.r[8] * z + vt.t[2];
-      const float inv = 1.0f / zc;
-      block.u[j] = vt.fx * (vt.r[0] * x + vt.r[1] * y + vt.r[2] * z + vt.t[0]) * inv + vt.cx;
-      block.v[j] = vt.fy * (vt.r[3] * x + vt.r[4] * y + vt.r[5] * z + vt.t[1]) * inv + vt.cy;
-      block.z[j] = zc;
-      block.extra[j] = spread * z * inv;
-    }
-    for (int j = 0; j < m; ++j) {
-      const float zc = block.z[j], u = block.u[j], w = block.v[j];
-      if (!(zc > 0.0f)) continue;
-      // Positive floats order like their bit patterns: the high word makes the nearest point win;
-      // the low word carries the colour, so the resolve pass never touches the cloud again (equal
-      // depths fall to the smaller packed colour: deterministic).
-      const std::uint64_t k =
-          static_cast<std::uint64_t>(bitCast<std::uint32_t>(zc)) << 32 | colours[begin + j];
-      const float magnification = block.extra[j];
-      if (magnification <= 1.0f) {
-        if (!(u >= -0.5f && u < u_hi && w >= -0.5f && w < v_hi)) continue;
-        std::uint64_t& slot = key[static_cast<std::size_t>(static_cast<int>(w + 0.5f)) * width +
-                                  static_cast<std::size_t>(static_cast<int>(u + 0.5f))];
-        slot = std::min(slot, k);  // branch-free: which point wins is unpredictable
-        continue;
-      }
-      // Footprint of fp x fp pixels centred on the point: for odd fp the pixel it rounds to plus
-      // (fp - 1) / 2 on each side, for even fp the fp / 2 nearest pixels on each side.
-      const int fp = std::min(max_fp, static_cast<int>(std::ceil(magnification)));
-      const float offset = 1.0f - 0.5f * fp;
-      const float ul = u + offset, vl = w + offset;
-      if (!(ul > -static_cast<float>(fp) && ul < width && vl > -static_cast<float>(fp) &&
-            vl < height)) {
-        continue;
-      }
-      const int u0 = static_cast<int>(std::floor(ul));
-      const int v0 = static_cast<int>(std::floor(vl));
-      const int ua = std::max(0, u0), ub = std::min(width, u0 + fp);
-      const int va = std::max(0, v0), vb = std::min(height, v0 + fp);
-      for (int r = va; r < vb; ++r) {
-        std::uint64_t* row = key + static_cast<std::size_t>(r) * width;
-        for (int c = ua; c < ub; ++c)
-          row[c] = std::min(row[c], k);
-      }
-    }
-  }
+  forEachPointBlock(
+      cloud, [&](std::size_t begin, int m, const float* bx, const float* by, const float* bz) {
+        for (int j = 0; j < m; ++j) {
+          const float x = bx[j], y = by[j], z = bz[j];
+          const float zc = vt.r[6] * x + vt.r[7] * y + vt.r[8] * z + vt.t[2];
+          const float inv = 1.0f / zc;
+          block.u[j] = vt.fx * (vt.r[0] * x + vt.r[1] * y + vt.r[2] * z + vt.t[0]) * inv + vt.cx;
+          block.v[j] = vt.fy * (vt.r[3] * x + vt.r[4] * y + vt.r[5] * z + vt.t[1]) * inv + vt.cy;
+          block.z[j] = zc;
+          block.extra[j] = spread * z * inv;
+        }
+        for (int j = 0; j < m; ++j) {
+          const float zc = block.z[j], u = block.u[j], w = block.v[j];
+          if (!(zc > 0.0f)) continue;
+          // Positive floats order like their bit patterns: the high word makes the nearest point
+          // win; the low word carries the colour, so the resolve pass never touches the cloud again
+          // (equal depths fall to the smaller packed colour: deterministic).
+          const std::uint64_t k =
+              static_cast<std::uint64_t>(bitCast<std::uint32_t>(zc)) << 32 | colours[begin + j];
+          const float magnification = block.extra[j];
+          if (magnification <= 1.0f) {
+            if (!(u >= -0.5f && u < u_hi && w >= -0.5f && w < v_hi)) continue;
+            std::uint64_t& slot = key[static_cast<std::size_t>(static_cast<int>(w + 0.5f)) * width +
+                                      static_cast<std::size_t>(static_cast<int>(u + 0.5f))];
+            slot = std::min(slot, k);  // branch-free: which point wins is unpredictable
+            continue;
+          }
+          // Footprint of fp x fp pixels centred on the point: for odd fp the pixel it rounds to
+          // plus (fp - 1) / 2 on each side, for even fp the fp / 2 nearest pixels on each side.
+          const int fp = std::min(max_fp, static_cast<int>(std::ceil(magnification)));
+          const float offset = 1.0f - 0.5f * fp;
+          const float ul = u + offset, vl = w + offset;
+          if (!(ul > -static_cast<float>(fp) && ul < width && vl > -static_cast<float>(fp) &&
+                vl < height)) {
+            continue;
+          }
+          const int u0 = static_cast<int>(std::floor(ul));
+          const int v0 = static_cast<int>(std::floor(vl));
+          const int ua = std::max(0, u0), ub = std::min(width, u0 + fp);
+          const int va = std::max(0, v0), vb = std::min(height, v0 + fp);
+          for (int r = va; r < vb; ++r) {
+            std::uint64_t* row = key + static_cast<std::size_t>(r) * width;
+            for (int c = ua; c < ub; ++c)
+              row[c] = std::min(row[c], k);
+          }
+        }
+      });
 
   allocate(out, size, false);
   for (int r = 0; r < height; ++r) {
@@ -337,60 +341,54 @@ void PointSplatter::renderGen3c(const ColoredCloud& cloud, const TargetCamera& c
   // GEN3C splats into an image with a 1-pixel border (positions shifted by +1 and clamped to
   // [0, W+1] x [0, H+1]) and crops the border afterwards: border taps are simply skipped here.
   const float ox_max = static_cast<float>(width + 1), oy_max = static_cast<float>(height + 1);
-  const std::size_t n = cloud.size();
-  const float* px = cloud.x.data();
-  const float* py = cloud.y.data();
-  const float* pz = cloud.z.data();
   const std::uint32_t* colours = cloud.bgr.data();
   ProjectedBlock block;
 
-  for (std::size_t begin = 0; begin < n; begin += kBlock) {
-    const int m = static_cast<int>(std::min<std::size_t>(kBlock, n - begin));
-    const float* bx = px + begin;
-    const float* by = py + begin;
-    const float* bz = pz + begin;
-    projectGen3cBlock(vt, bx, by, bz, m, exponent_scale, block);
-    for (int j = 0; j < m; ++j) {
-      const float zc = block.z[j];
-      if (!(zc > 0.0f)) continue;
-      float ox = std::min(std::max(block.u[j], 0.0f), ox_max);
-      float oy = std::min(std::max(block.v[j], 0.0f), oy_max);
-      // Round-off of unproject + project (~1e-4 px) must not split a point that lands on a pixel
-      // centre: the soft weight can amplify a 1e-5 bilinear tap of a nearer point by 1e10.
-      const float rx = std::nearbyint(ox), ry = std::nearbyint(oy);
-      if (std::abs(ox - rx) < 1e-3f) ox = rx;
-      if (std::abs(oy - ry) < 1e-3f) oy = ry;
-      const float x0 = std::floor(ox), x1 = std::ceil(ox);
-      const float y0 = std::floor(oy), y1 = std::ceil(oy);
-      const int ix0 = static_cast<int>(x0), ix1 = static_cast<int>(x1);
-      const int iy0 = static_cast<int>(y0), iy1 = static_cast<int>(y1);
-      if (ix1 < 1 || ix0 > width || iy1 < 1 || iy0 > height) continue;  // border only: cropped
-      // Bilinear weights exactly as GEN3C forms them, including the integer-position case where
-      // floor == ceil and all four taps hit the same pixel with weight 1 each.
-      const float soft_z = block.extra[j];
-      const float wx[2] = {1.0f - (ox - x0), 1.0f - (x1 - ox)};
-      const float wy[2] = {1.0f - (oy - y0), 1.0f - (y1 - oy)};
-      const int tx[2] = {ix0, ix1}, ty[2] = {iy0, iy1};
-      const std::uint32_t colour = colours[begin + j];
-      const float b = signed_value[colour & 0xff];
-      const float g = signed_value[(colour >> 8) & 0xff];
-      const float r = signed_value[(colour >> 16) & 0xff];
-      for (int a = 0; a < 2; ++a) {
-        if (ty[a] < 1 || ty[a] > height) continue;
-        float* row = sums + static_cast<std::size_t>(ty[a] - 1) * width * kSums;
-        for (int c = 0; c < 2; ++c) {
-          if (tx[c] < 1 || tx[c] > width) continue;
-          const float weight = wy[a] * wx[c] / soft_z;
-          float* s = row + static_cast<std::size_t>(tx[c] - 1) * kSums;
-          s[0] += weight * b;
-          s[1] += weight * g;
-          s[2] += weight * r;
-          s[3] += weight * zc;
-          s[4] += weight;
+  forEachPointBlock(
+      cloud, [&](std::size_t begin, int m, const float* bx, const float* by, const float* bz) {
+        projectGen3cBlock(vt, bx, by, bz, m, exponent_scale, block);
+        for (int j = 0; j < m; ++j) {
+          const float zc = block.z[j];
+          if (!(zc > 0.0f)) continue;
+          float ox = std::min(std::max(block.u[j], 0.0f), ox_max);
+          float oy = std::min(std::max(block.v[j], 0.0f), oy_max);
+          // Round-off of unproject + project (~1e-4 px) must not split a point that lands on a
+          // pixel centre: the soft weight can amplify a 1e-5 bilinear tap of a nearer point by
+          // 1e10.
+          const float rx = std::nearbyint(ox), ry = std::nearbyint(oy);
+          if (std::abs(ox - rx) < 1e-3f) ox = rx;
+          if (std::abs(oy - ry) < 1e-3f) oy = ry;
+          const float x0 = std::floor(ox), x1 = std::ceil(ox);
+          const float y0 = std::floor(oy), y1 = std::ceil(oy);
+          const int ix0 = static_cast<int>(x0), ix1 = static_cast<int>(x1);
+          const int iy0 = static_cast<int>(y0), iy1 = static_cast<int>(y1);
+          if (ix1 < 1 || ix0 > width || iy1 < 1 || iy0 > height) continue;  // border only: cropped
+          // Bilinear weights exactly as GEN3C forms them, including the integer-position case where
+          // floor == ceil and all four taps hit the same pixel with weight 1 each.
+          const float soft_z = block.extra[j];
+          const float wx[2] = {1.0f - (ox - x0), 1.0f - (x1 - ox)};
+          const float wy[2] = {1.0f - (oy - y0), 1.0f - (y1 - oy)};
+          const int tx[2] = {ix0, ix1}, ty[2] = {iy0, iy1};
+          const std::uint32_t colour = colours[begin + j];
+          const float b = signed_value[colour & 0xff];
+          const float g = signed_value[(colour >> 8) & 0xff];
+          const float r = signed_value[(colour >> 16) & 0xff];
+          for (int a = 0; a < 2; ++a) {
+            if (ty[a] < 1 || ty[a] > height) continue;
+            float* row = sums + static_cast<std::size_t>(ty[a] - 1) * width * kSums;
+            for (int c = 0; c < 2; ++c) {
+              if (tx[c] < 1 || tx[c] > width) continue;
+              const float weight = wy[a] * wx[c] / soft_z;
+              float* s = row + static_cast<std::size_t>(tx[c] - 1) * kSums;
+              s[0] += weight * b;
+              s[1] += weight * g;
+              s[2] += weight * r;
+              s[3] += weight * zc;
+              s[4] += weight;
+            }
+          }
         }
-      }
-    }
-  }
+      });
 
   allocate(out, size, true);
   for (int row = 0; row < height; ++row) {
