@@ -11,6 +11,8 @@ PACKAGES=(
   libdiagnostic-updater-dev librosbag-dev python3-rostest rosbash rviz
   python3-sensor-msgs python3-std-msgs python3-geometry-msgs python3-tf2-ros python3-genpy
   python3-rosbag python3-numpy libstd-srvs-dev python3-std-srvs python3-catkin-pkg
+  # The soak monitor and demo scripts (rospy, rosgraph, diagnostic_msgs).
+  python3-rospy python3-rosgraph python3-diagnostic-msgs
   libeigen3-dev libopencv-dev libgtest-dev libgmock-dev libbenchmark-dev
   # Hardening: libFuzzer harnesses and the sanitizer builds use Debian's clang and its runtime.
   clang libclang-rt-14-dev

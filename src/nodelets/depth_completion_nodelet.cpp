@@ -24,6 +24,7 @@
 #include "multimodal_nvs/ros/frame_synchronizer.hpp"
 #include "multimodal_nvs/ros/input_timeline.hpp"
 #include "multimodal_nvs/ros/recycled_message.hpp"
+#include "multimodal_nvs/ros/stats_message.hpp"
 #include "nodelet_state.hpp"
 
 namespace multimodal_nvs {

@@ -12,6 +12,7 @@
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
 #include "multimodal_nvs/ros/input_timeline.hpp"
 #include "multimodal_nvs/ros/recycled_message.hpp"
+#include "multimodal_nvs/ros/stats_message.hpp"
 
 namespace mm = multimodal_nvs;
 namespace rc = multimodal_nvs::ros_conversions;

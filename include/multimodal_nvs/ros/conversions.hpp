@@ -2,7 +2,6 @@
 // ROS messages <-> core types. Everything that comes in is validated here, before the core sees
 // it, and a failure comes back as a typed InputFault with a specific reason: callbacks drop the
 // message and count the fault instead of catching exceptions. No algorithm lives here.
-#include <multimodal_nvs/DepthCompletionStats.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
@@ -154,11 +153,6 @@ sensor_msgs::PointCloud2 float32Cloud(const std::vector<std::string>& names,
 void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, const cv::Mat& rgb,
                   int cloud_stride, const std_msgs::Header& header,
                   sensor_msgs::PointCloud2& cloud);
-
-/// depth/stats of one completed frame; `latency_ms` runs from the receipt of the set's last
-/// message to publication.
-DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs::Header& header,
-                                     double latency_ms);
 
 }  // namespace ros_conversions
 }  // namespace multimodal_nvs

@@ -1,0 +1,22 @@
+#include "multimodal_nvs/ros/stats_message.hpp"
+
+#include <boost/make_shared.hpp>
+
+namespace multimodal_nvs {
+namespace ros_conversions {
+
+DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs::Header& header,
+                                     double latency_ms) {
+  auto message = boost::make_shared<DepthCompletionStats>();
+  message->header = header;
+  message->points_in = unsigned(stats.points_total);
+  message->points_in_view = unsigned(stats.points_in_view);
+  message->neighbour_sets = unsigned(stats.neighbour_sets);
+  message->kept_pixels = unsigned(stats.kept);
+  message->compute_ms = static_cast<float>(stats.compute_ms);
+  message->latency_ms = static_cast<float>(latency_ms);
+  return message;
+}
+
+}  // namespace ros_conversions
+}  // namespace multimodal_nvs
