@@ -57,9 +57,9 @@ inline bool withinRadius(float az_pixel, float el_pixel, float az_sample, float 
 }
 
 /// Calls visit(row, segment, row_azimuth, row_elevation, worker) for every segment of every grid
-/// row, rows spread over the pool `rows_per_chunk` at a time: how the models that predict per
-/// neighbour set (local GP, kernel) reach their pixels. row_azimuth/row_elevation are the row's
-/// pixel angles; `worker` indexes per-thread scratch.
+/// row, rows spread over the pool `rows_per_chunk` at a time: how the local GP reaches its pixels.
+/// (The kernel model keeps its own row loop: its weight scratch lives per row, which measured 20 %
+/// faster than per-thread scratch through this function.)
 template <class Visit>
 void forEachSegment(const NeighbourSets& sets, const PixelAngleGrid& angles, ThreadPool& pool,
                     long long rows_per_chunk, Visit&& visit) {

@@ -45,51 +45,56 @@ void predictKernel(const std::vector<AngularSample>& samples, const PixelAngleGr
   const float shift32 = static_cast<float>(shift);
   const int cols = angles.grid().cols();
 
-  // Per-thread scratch for the weights of one block.
-  std::vector<SimdVector<float>> scratch(static_cast<std::size_t>(pool.size()));
-  forEachSegment(
-      sets, angles, pool, 4,
-      [&](int row, const NeighbourSegment& seg, const float* az, const float* el, int worker) {
-        SimdVector<float>& weights = scratch[static_cast<std::size_t>(worker)];
-        const int n = sets.setSize(seg.set_id);
-        const int* members = sets.members(seg.set_id);
-        for (int c0 = seg.col_begin; c0 < seg.col_end; c0 += kBlock) {
-          const int m = std::min(kBlock, seg.col_end - c0);
-          // Exponents of the whole n x m block first, then one vectorised exp over all of them.
-          // Padded to whole 16-float packets: Eigen's exp then never falls back to scalar expf.
-          const std::size_t padded = (std::size_t(n) * m + 15) & ~std::size_t(15);
-          weights.resize(padded, 0.0f);
-          for (int i = 0; i < n; ++i) {
-            const AngularSample& s = samples[members[i]];
-            float* w = weights.data() + std::size_t(i) * m;
-            for (int p = 0; p < m; ++p) {
-              const float da = az[c0 + p] - s.azimuth_deg;
-              const float de = el[c0 + p] - s.elevation_deg;
-              const float d2 = da * da + de * de;
-              w[p] = (-0.5f * d2) / ls2;
+  pool.parallelFor(
+      angles.grid().rows(),
+      [&](long long row_index, int) {
+        const int row = static_cast<int>(row_index);
+        const float* az = angles.azimuthRow(row);
+        const float* el = angles.elevationRow(row);
+        SimdVector<float> weights;
+        for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
+          const NeighbourSegment& seg = sets.segments()[k];
+          const int n = sets.setSize(seg.set_id);
+          const int* members = sets.members(seg.set_id);
+          for (int c0 = seg.col_begin; c0 < seg.col_end; c0 += kBlock) {
+            const int m = std::min(kBlock, seg.col_end - c0);
+            // Exponents of the whole n x m block first, then one vectorised exp over all of them.
+            // Padded to whole 16-float packets: Eigen's exp then never falls back to scalar expf.
+            const std::size_t padded = (std::size_t(n) * m + 15) & ~std::size_t(15);
+            weights.resize(padded, 0.0f);
+            for (int i = 0; i < n; ++i) {
+              const AngularSample& s = samples[members[i]];
+              float* w = weights.data() + std::size_t(i) * m;
+              for (int p = 0; p < m; ++p) {
+                const float da = az[c0 + p] - s.azimuth_deg;
+                const float de = el[c0 + p] - s.elevation_deg;
+                const float d2 = da * da + de * de;
+                w[p] = (-0.5f * d2) / ls2;
+              }
             }
-          }
-          Eigen::Map<Eigen::ArrayXf> block(weights.data(), padded);
-          block = block.exp();
-          // Segments average about 15 pixels: clear only the m accumulators in use.
-          double sum_w[kBlock], sum_wy[kBlock], sum_wyy[kBlock];
-          std::fill_n(sum_w, m, 0.0);
-          std::fill_n(sum_wy, m, 0.0);
-          std::fill_n(sum_wyy, m, 0.0);
-          for (int i = 0; i < n; ++i) {
-            const float* w = weights.data() + std::size_t(i) * m;
-            const double y = targets[members[i]];
-            for (int p = 0; p < m; ++p) {
-              sum_w[p] += w[p];
-              sum_wy[p] += w[p] * y;
-              sum_wyy[p] += w[p] * y * y;
+            Eigen::Map<Eigen::ArrayXf> block(weights.data(), padded);
+            block = block.exp();
+            // Segments average about 15 pixels: clear only the m accumulators in use.
+            double sum_w[kBlock], sum_wy[kBlock], sum_wyy[kBlock];
+            std::fill_n(sum_w, m, 0.0);
+            std::fill_n(sum_wy, m, 0.0);
+            std::fill_n(sum_wyy, m, 0.0);
+            for (int i = 0; i < n; ++i) {
+              const float* w = weights.data() + std::size_t(i) * m;
+              const double y = targets[members[i]];
+              for (int p = 0; p < m; ++p) {
+                sum_w[p] += w[p];
+                sum_wy[p] += w[p] * y;
+                sum_wyy[p] += w[p] * y * y;
+              }
             }
+            const std::size_t pixel = std::size_t(row) * cols + c0;
+            storeMoments(sum_w, sum_wy, sum_wyy, m, shift32, out.mean.data() + pixel,
+                         out.variance.data() + pixel);
           }
-          const std::size_t pixel = std::size_t(row) * cols + c0;
-          storeMoments(sum_w, sum_wy, sum_wyy, m, shift32, out.mean.data() + pixel,
-                       out.variance.data() + pixel);
         }
-      });
+      },
+      4);
 }
 
 }  // namespace multimodal_nvs
