@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string>
 
+#include "multimodal_nvs/core/common/buffer_reuse.hpp"
+
 namespace multimodal_nvs {
 namespace ros_conversions {
 namespace detail {
@@ -33,7 +35,7 @@ inline bool hostIsBigEndian() {
 /// one huge input does not pin its memory for the rest of the run.
 template <class ByteVector>
 void resizeKeepingBuffer(ByteVector& data, std::size_t size) {
-  if (data.capacity() > 4 * size + (1u << 16)) ByteVector().swap(data);
+  if (capacityFarExceeds(data.capacity(), size)) ByteVector().swap(data);
   data.resize(size);
 }
 

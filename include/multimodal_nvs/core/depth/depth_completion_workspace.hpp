@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "multimodal_nvs/core/common/buffer_reuse.hpp"
 #include "multimodal_nvs/core/common/thread_count_cached.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 
@@ -23,11 +24,10 @@ constexpr std::size_t kLinearModelPointCap = 200000;
 /// 0 the automatic cap of `params`' model, > 0 that many.
 std::size_t pointCap(int max_points, const DepthCompletionParams& params);
 
-/// True when `buffer` holds far more memory than its contents need (over four times its size plus
-/// 64k elements): left behind by one huge input, it would pin that memory for the rest of the run.
+/// True when `buffer` holds far more memory than its contents need (capacityFarExceeds).
 template <class Buffer>
 bool oversized(const Buffer& buffer) {
-  return buffer.capacity() > 4 * buffer.size() + (std::size_t(1) << 16);
+  return capacityFarExceeds(buffer.capacity(), buffer.size());
 }
 
 /// Frees whichever of `points` and `depth` is oversized (the map as a whole), so that memory stays
