@@ -2,21 +2,13 @@
 
 #include <utility>
 
+#include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/ros/preset_burst.hpp"
 
 namespace multimodal_nvs {
 
 namespace rc = ros_conversions;
-
-namespace {
-
-double millisecondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
-
-}  // namespace
 
 RendererStep RendererSession::onInputSet(const sensor_msgs::Image& image,
                                          const sensor_msgs::Image& depth,

@@ -17,6 +17,7 @@
 #include <sstream>
 
 #include "common/cli.hpp"
+#include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/eval/image_metrics.hpp"
@@ -332,8 +333,7 @@ int run(int argc, char** argv) {
   prep.edge_threshold = static_cast<float>(args.number("edge-threshold", 0.05));
   const auto t_cloud = std::chrono::steady_clock::now();
   const mm::ColoredCloud cloud = mm::buildColoredCloud(depth, valid, grid_image, k_grid, prep);
-  const double cloud_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_cloud).count();
+  const double cloud_ms = mm::millisecondsSince(t_cloud);
 
   // Trajectory.
   const mm::PinholeIntrinsics k_target =
@@ -437,8 +437,7 @@ int run(int argc, char** argv) {
   if (gen3c) gen3c->finish();
   if (!metrics.empty())
     writeText(output + "/metrics.json", metricsJson(metrics, mm::toString(splat.mode)));
-  const double total_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_all).count();
+  const double total_ms = mm::millisecondsSince(t_all);
 
   const double mean_psnr = finiteMean(metrics, &FrameMetrics::psnr, false);
   const double mean_ssim = finiteMean(metrics, &FrameMetrics::ssim, false);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
@@ -154,8 +155,7 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
     stats.kept += kept_in_chunk[c];
   }
   stats.pixels = grid.size();
-  stats.compute_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.compute_ms = millisecondsSince(start);
 }
 
 }  // namespace multimodal_nvs

@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <utility>
 
+#include "multimodal_nvs/core/common/elapsed.hpp"
+
 namespace multimodal_nvs {
 
 std::optional<DepthResize> parseDepthResize(const std::string& name) {
@@ -32,9 +34,10 @@ bool resizesDepthToRender(DepthResize choice, SplatMode mode) {
 
 bool resizesDepthToRender(DepthResize choice, SplatMode mode, const ImageSize& grid,
                           const ImageSize& render) {
-  if (choice != DepthResize::kAuto) return resizesDepthToRender(choice, mode);
-  return resizesDepthToRender(choice, mode) && grid.height >= render.height &&
-         grid.width >= render.width;
+  // auto also needs a grid at least the render size (a coarser grid is not upsampled).
+  return resizesDepthToRender(choice, mode) &&
+         (choice != DepthResize::kAuto ||
+          (grid.height >= render.height && grid.width >= render.width));
 }
 
 int BurstOptions::chunkFramesFor(int threads) const {
@@ -52,8 +55,7 @@ BurstStats renderBurstChunks(PointSplatter& splatter, const ColoredCloud& cloud,
     const auto start = std::chrono::steady_clock::now();
     splatter.render(cloud, trajectory, first, std::min(chunk, stats.frames - first), params,
                     frames);
-    stats.render_ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    stats.render_ms += millisecondsSince(start);
     ++stats.chunks;
     sink(first, frames);
   }
