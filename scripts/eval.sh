@@ -20,6 +20,8 @@
 #   EVAL_SPLIT       dev|validation|all: synthetic scenes to run (default all)
 #   EVAL_SCENES      space-separated scene names (default: every scene of the split)
 #   EVAL_MODELS      space-separated depth models (default: all seven below)
+#   EVAL_NVS_MODELS  the models whose depth is also rendered into novel views (default: EVAL_MODELS;
+#                    a render costs about ten depth runs)
 #   EVAL_SKIP        space-separated suites to skip: synthetic, vod, real (= astyx nuscenes kitti
 #                    distorted_camera), each of those by name, nvs (no novel views), lidar (no
 #                    LiDAR input), ablation (VoD radius / retention ablations)
@@ -78,6 +80,7 @@ NVS_RETENTION=${EVAL_RETENTION:-80}
 # Depth models of the tables. On LiDAR input the GP uses the documented tile approximation (the
 # exact GP takes about a minute per frame on 1-in-4 LiDAR even at stride 4: measured 58 s).
 read -r -a MODELS <<< "${EVAL_MODELS:-local_gp_mle ground_gp kernel nearest linear ipbasic constant}"
+read -r -a NVS_MODELS <<< "${EVAL_NVS_MODELS:-${MODELS[*]}}"
 LIDAR_GP_ARGS=(--max-neighbors 64)
 # Kernel regression on all LiDAR returns (the novel views): a 1 deg radius (its 2 deg radius holds
 # thousands of returns per pixel: 40 s per frame at 968x608 on a loaded machine, 8 s with 1 deg).
@@ -199,7 +202,7 @@ nvs_model_runs() {
   local dir=$1 root=$2 fid=$3 input=$4 retentions=$5 first=$6 last=$7 h=$8 w=$9
   local model retain
   mkdir -p "$dir"
-  for model in "${MODELS[@]}"; do
+  for model in "${NVS_MODELS[@]}"; do
     for retain in $retentions; do
       progress "${dir#"$RAW"/}: novel view, $input -> $model at $retain %"
       local prefix="$dir/${input}_${model}_$retain"
