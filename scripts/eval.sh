@@ -20,6 +20,8 @@
 #   EVAL_SPLIT       dev|validation|all: synthetic scenes to run (default all)
 #   EVAL_SCENES      space-separated scene names (default: every scene of the split)
 #   EVAL_MODELS      space-separated depth models (default: all seven below)
+#   EVAL_NVS_MODELS  the models whose depth is also rendered into novel views (default: EVAL_MODELS;
+#                    a render costs about ten depth runs)
 #   EVAL_SKIP        space-separated suites to skip: synthetic, vod, real (= astyx nuscenes kitti
 #                    distorted_camera), each of those by name, nvs (no novel views), lidar (no
 #                    LiDAR input), ablation (VoD radius / retention ablations)
@@ -28,24 +30,29 @@
 #                    regenerated only when its arguments, scale or frame count change
 #   EVAL_SCENE_SCALE image scale of the synthetic scenes (default 0.5: 968x608)
 #   EVAL_RETENTION   retention (%) of the novel-view depth (default 80, config/radar.yaml's)
+#   EVAL_SCENE_DEPTH_FRAMES frames of the synthetic depth metrics (default 0, the novel-view frame)
 #   EVAL_KEEP_FRAMES=1 keeps the rendered frames of the novel-view runs
 #
 # Suites:
 #   synthetic  per scene: depth from radar and from LiDAR (1-in-4 returns as input) against the
-#              exact depth at frames 0 and 8 (all pixels and kept 80 %); novel views from frame
+#              exact depth at frame 0 (all pixels and kept 80 %); novel views from frame
 #              0's depth (radar, and all LiDAR returns) rendered with GEN3C's splatting into the
 #              16 recorded poses at 352x640, next to the oracle: the exact depth with the sky at
 #              GEN3C's 100 m clamp (and the exact depth with the sky dropped).
 #   vod        00549/01047: radar and LiDAR (1-in-4 input, the rest as ground truth) depth, the
 #              radius and retention ablations; 08350: novel views into 08350-08365 at 704x1280
 #              (radar, 80 and 100 % retention). No oracle: no exact depth.
-#   astyx, nuscenes, distorted_camera (VoD layout, no poses), kitti (KITTI object layout, when the
-#              tools read it): depth from radar (where the folder has radar) and from LiDAR.
+#   astyx, nuscenes, distorted_camera (VoD layout, no poses), kitti (KITTI object layout, LiDAR
+#              only; skipped with the reason while the tools cannot read that layout): depth
+#              from radar (where the folder has radar) and from LiDAR (1-in-4 input, the rest as
+#              ground truth), runtime per frame.
 #              A model that fails is listed with its reason (e.g. "needs pose"), the rest go on.
 # The recorded poses only are rendered (16 frames): GEN3C's 121-frame trajectory puts them at
 # frames 0, 8, ..., 120, so the metrics equal those of the full render.
 set -euo pipefail
-
+# The whole script is one block, read before it runs: editing the file during a long evaluation
+# cannot change what the running one does.
+{
 BUILD_DIR=${1:-build}
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$REPO"
@@ -68,12 +75,17 @@ SCENE_LIST="$REPO/eval/synthetic_scenes.tsv"
 SCENE_CACHE=${EVAL_SCENE_CACHE:-$OUT/scenes}
 SCENE_SCALE=${EVAL_SCENE_SCALE:-0.5}
 SCENE_FRAMES=16
+SCENE_DEPTH_FRAMES=${EVAL_SCENE_DEPTH_FRAMES:-0}
 NVS_RETENTION=${EVAL_RETENTION:-80}
 
-# Depth models of the tables. The GP on LiDAR input uses the documented tile approximation: the
-# exact GP takes about a minute per frame on 1-in-4 LiDAR even at stride 4 (measured 58 s).
+# Depth models of the tables. On LiDAR input the GP uses the documented tile approximation (the
+# exact GP takes about a minute per frame on 1-in-4 LiDAR even at stride 4: measured 58 s).
 read -r -a MODELS <<< "${EVAL_MODELS:-local_gp_mle ground_gp kernel nearest linear ipbasic constant}"
+read -r -a NVS_MODELS <<< "${EVAL_NVS_MODELS:-${MODELS[*]}}"
 LIDAR_GP_ARGS=(--max-neighbors 64)
+# Kernel regression on all LiDAR returns (the novel views): a 1 deg radius (its 2 deg radius holds
+# thousands of returns per pixel: 40 s per frame at 968x608 on a loaded machine, 8 s with 1 deg).
+LIDAR_KERNEL_ARGS=(--radius-deg 1)
 LIDAR_STRIDE=4
 LIDAR_SUBSAMPLE=4
 
@@ -135,8 +147,11 @@ try_json() {
   return 1
 }
 
-model_args() {  # extra arguments of a model on LiDAR input
+# model_args MODEL INPUT [all]: extra arguments of a model on LiDAR input ("all": every return,
+# as the novel views use, rather than 1 in 4).
+model_args() {
   [[ "$1" == local_gp_mle && "$2" == lidar ]] && echo "${LIDAR_GP_ARGS[@]}"
+  [[ "$1" == kernel && "$2" == lidar && "${3:-}" == all ]] && echo "${LIDAR_KERNEL_ARGS[@]}"
   return 0
 }
 
@@ -188,13 +203,13 @@ nvs_model_runs() {
   local dir=$1 root=$2 fid=$3 input=$4 retentions=$5 first=$6 last=$7 h=$8 w=$9
   local model retain
   mkdir -p "$dir"
-  for model in "${MODELS[@]}"; do
+  for model in "${NVS_MODELS[@]}"; do
     for retain in $retentions; do
       progress "${dir#"$RAW"/}: novel view, $input -> $model at $retain %"
       local prefix="$dir/${input}_${model}_$retain"
       # shellcheck disable=SC2046
       if try_json "$prefix.depth.json" "$TOOLS/complete_depth" --vod-root "$root" --frame "$fid" \
-        --sensor "$input" --model "$model" $(model_args "$model" "$input") \
+        --sensor "$input" --model "$model" $(model_args "$model" "$input" all) \
         --retain-percent "$retain" --threads "$THREADS" --output "$prefix"; then
         render_nvs "$prefix" "$root/lidar/training/image_2/$fid.jpg" \
           "$root/$input/training/calib/$fid.txt" "$root" "$first" "$last" "$h" "$w"
@@ -267,7 +282,7 @@ else
       "$name" "$split" "$args" "$SCENE_SCALE" "$SCENE_FRAMES" > "$dir/scene.json"
     inputs="radar"
     skipped lidar || inputs="radar lidar"
-    depth_runs "synthetic/$name" "$root" 0,8 "$inputs" 1
+    depth_runs "synthetic/$name" "$root" "$SCENE_DEPTH_FRAMES" "$inputs" 1
     if ! skipped nvs; then
       oracle_runs "$dir/nvs" "$root"
       for input in $inputs; do
@@ -341,20 +356,27 @@ real_suite astyx 2
 real_suite nuscenes 2
 real_suite distorted_camera 2
 
-# KITTI object layout: runs once evaluate_depth reads it (--kitti-root).
+# KITTI object layout (LiDAR only): runs once the tools read that layout from --vod-root (the
+# layout is told from the folder) or a --kitti-root option; a one-frame probe decides.
 KITTI="$DATA/kitti"
-if skipped real kitti; then
+if skipped real kitti lidar; then
   progress "kitti suite skipped (EVAL_SKIP)"
 elif [[ ! -d "$KITTI/velodyne" ]]; then
   progress "kitti suite skipped: no data in $KITTI"
-elif ! "$TOOLS/evaluate_depth" --help 2>&1 | grep -q -- '--kitti-root'; then
-  progress "kitti suite skipped: evaluate_depth does not read the KITTI layout (--kitti-root) yet"
-elif ! skipped lidar; then
+else
   KITTI=$(cd "$KITTI" && pwd)
   rm -rf "$RAW/kitti"
   kitti_frames=$(find "$KITTI/velodyne" -maxdepth 1 -name '*.bin' -printf '%f\n' |
     sed 's/\.bin$//; s/^0*\([0-9]\)/\1/' | sort -n | paste -sd, -)
-  depth_runs kitti "$KITTI" "$kitti_frames" lidar 1 --kitti-root
+  kitti_option=--vod-root
+  "$TOOLS/evaluate_depth" --help 2>&1 | grep -q -- '--kitti-root' && kitti_option=--kitti-root
+  if probe=$("$TOOLS/evaluate_depth" "$kitti_option" "$KITTI" --frames "${kitti_frames%%,*}" \
+      --input lidar --subsample 4 --stride 8 --model nearest 2>&1 >/dev/null); then
+    depth_runs kitti "$KITTI" "$kitti_frames" lidar 1 "$kitti_option"
+  else
+    progress "kitti suite skipped: evaluate_depth does not read the KITTI object layout yet" \
+      "($(echo "$probe" | tail -n 1))"
+  fi
 fi
 
 progress "tables"
@@ -362,3 +384,5 @@ EVAL_SECONDS=$(elapsed "$EVAL_START")
 "$PY" "$REPO/scripts/eval_tables.py" tables "$OUT" --seconds "$EVAL_SECONDS" \
   --threads "$(nproc)" --split "$SPLIT"
 progress "done: $OUT/tables.md, $OUT/tables.json"
+exit 0
+}

@@ -519,15 +519,19 @@ def synthetic_tables(raw):
         (i, m) in s["nvs"] or (i, m) in s["depth"] for s in scenes for i, _ in INPUTS)]
     retention = next((s["retention"] for s in scenes if s["retention"] is not None), None)
     first = scenes[0]
+    depth_frames = next((", ".join(str(f) for f in d["frames"]) for s in scenes
+                         for d in s["depth"].values()), "–")
     setup = ("Scenes of eval/synthetic_scenes.tsv made by make_synthetic_scene --frames %s "
              "--scale %s plus each scene's arguments. Novel views: frame 0's depth (radar; or all "
              "LiDAR returns) at %s %% retention, rendered with GEN3C's splatting at 352x640 into "
              "the 16 recorded poses; the oracle renders the exact depth with the sky at GEN3C's "
              "100 m clamp, 'exact, sky dropped' the exact depth without the sky; gap = covered "
-             "PSNR minus the oracle's. Depth: against the exact depth at frames 0 and 8 (radar: "
-             "all returns, stride 1; LiDAR: 1 in 4 returns as input, stride 4). The local GP on "
-             "LiDAR uses the tile approximation (--max-neighbors 64)." %
-             (first.get("frames"), first.get("scale"), retention if retention else "–"))
+             "PSNR minus the oracle's. Depth: against the exact depth at frame(s) %s (radar: all "
+             "returns, stride 1; LiDAR: 1 in 4 returns as input, stride 4). On LiDAR input the "
+             "local GP uses the tile approximation (--max-neighbors 64), and kernel regression on "
+             "all LiDAR returns (the novel views) a 1° radius." %
+             (first.get("frames"), first.get("scale"), retention if retention else "–",
+              depth_frames))
     tables = []
 
     def split_mean(split, key, field):
@@ -596,7 +600,7 @@ def synthetic_tables(raw):
                             "Synthetic scenes, %s input: preview PSNR and depth MAE per scene" %
                             input_label,
                             "Cell: preview PSNR [dB] (hole-filled frames, 16 poses) / depth MAE "
-                            "[m] (all pixels, frames 0 and 8). %s" % setup, other_header)
+                            "[m] (all pixels). %s" % setup, other_header)
 
         def nvs_cell(run, gap=True):
             if not run:
