@@ -166,7 +166,7 @@ sys.exit(0 if (s.get("frames"), s.get("first_frame"), s.get("seed"), s.get("widt
     progress "synthetic: generating the scene (16 frames, scale 0.5)"
     rm -rf "$SYN"
     run_json "$LOGS/make_synthetic_scene.json" "$TOOLS/make_synthetic_scene" --output "$SYN" \
-      --frames 16 --scale 0.5 --seed 1 --threads "$THREADS" --quiet
+      --num-frames 16 --scale 0.5 --seed 1 --threads "$THREADS" --quiet
   else
     progress "synthetic: reusing the cached scene in $SYN"
   fi

@@ -419,7 +419,7 @@ def tables(out_dir, seconds, threads):
     if os.path.isdir(os.path.join(raw, "synthetic")):
         all_tables += suite_tables("synthetic", raw, "Synthetic street",
                                    "the exact depth image depth_gt (sky excluded)",
-                                   " Synthetic scene: make_synthetic_scene --frames 16 --scale 0.5 "
+                                   " Synthetic scene: make_synthetic_scene --num-frames 16 --scale 0.5 "
                                    "--seed 1 (968x608).")
     if not all_tables:
         fail("%s: no table could be built" % raw)

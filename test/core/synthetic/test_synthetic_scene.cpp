@@ -370,7 +370,7 @@ TEST(SyntheticScene, RadarSeesTheStaticWorldApproachWhileDrivingForward) {
 TEST(SyntheticScene, ToolWritesTheLayoutAndRejectsBadOptions) {
   const std::string root = freshDir("tool");
   const auto ok = runTool("--output " + root +
-                          " --scale 0.05 --frames 2 --first-frame 7 --quiet "
+                          " --scale 0.05 --num-frames 2 --first-frame 7 --quiet "
                           "--lidar-azimuth-step 2");
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_NE(ok.output.find("\"frames\": 2"), std::string::npos) << ok.output;
@@ -382,10 +382,10 @@ TEST(SyntheticScene, ToolWritesTheLayoutAndRejectsBadOptions) {
     int code;
   } cases[] = {
       {"--scale 0.1", "--output", 2},
-      {"--output " + root + " --scale 0", "scale", 1},
-      {"--output " + root + " --frames 0", "frames", 1},
+      {"--output " + root + " --scale 0", "--scale", 2},
+      {"--output " + root + " --num-frames 0", "--num-frames", 2},
       {"--output " + root + " --seed -3", "--seed", 2},
-      {"--output /proc/forbidden --scale 0.05 --frames 1", "/proc/forbidden", 1},
+      {"--output /proc/forbidden --scale 0.05 --num-frames 1", "/proc/forbidden", 1},
   };
   for (const auto& c : cases) {
     const auto r = runTool(c.args);
