@@ -1,8 +1,10 @@
 # ROS-free command-line tools: every src/tools/<name>.cpp is a tool called <name>. Tools that need
 # rosbag (and the ROS message conversions) list themselves in MMNVS_ROSBAG_TOOLS.
-add_library(multimodal_nvs_cli STATIC src/tools/common/cli.cpp src/tools/common/depth_options.cpp)
+find_package(CLI11 REQUIRED)
+file(GLOB MMNVS_CLI_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/tools/common/*.cpp)
+add_library(multimodal_nvs_cli STATIC ${MMNVS_CLI_SOURCES})
 target_include_directories(multimodal_nvs_cli PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/src/tools)
-target_link_libraries(multimodal_nvs_cli PUBLIC multimodal_nvs_core)
+target_link_libraries(multimodal_nvs_cli PUBLIC multimodal_nvs_core CLI11::CLI11)
 
 set(MMNVS_ROSBAG_TOOLS vod_to_bag)
 file(GLOB MMNVS_TOOL_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/tools/*.cpp)

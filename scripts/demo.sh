@@ -129,7 +129,7 @@ stage_scene() {
   fi
   require_tool make_synthetic_scene
   rm -rf "$ROOT"
-  "$TOOLS/make_synthetic_scene" --output "$ROOT" --scale "$SCALE" --frames $((LAST - FIRST + 1)) \
+  "$TOOLS/make_synthetic_scene" --output "$ROOT" --scale "$SCALE" --num-frames $((LAST - FIRST + 1)) \
     --first-frame "$FIRST" --threads "$THREADS"
 }
 

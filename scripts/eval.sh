@@ -226,7 +226,7 @@ make_scene() {
   local name=$1
   shift
   local dir="$SCENE_CACHE/$name"
-  local key="$* --frames $SCENE_FRAMES --scale $SCENE_SCALE"
+  local key="$* --num-frames $SCENE_FRAMES --scale $SCENE_SCALE"
   if [[ "${EVAL_REGENERATE:-0}" != 1 && -f "$dir/eval_args.txt" && -f "$dir/scene.json" &&
         "$(cat "$dir/eval_args.txt")" == "$key" ]]; then
     progress "synthetic/$name: reusing the cached scene"
@@ -236,7 +236,7 @@ make_scene() {
   rm -rf "$dir"
   # shellcheck disable=SC2086
   run_json "$LOGS/make_scene_$name.json" "$TOOLS/make_synthetic_scene" --output "$dir" \
-    --frames "$SCENE_FRAMES" --scale "$SCENE_SCALE" --threads "$THREADS" --quiet "$@"
+    --num-frames "$SCENE_FRAMES" --scale "$SCENE_SCALE" --threads "$THREADS" --quiet "$@"
   printf '%s' "$key" > "$dir/eval_args.txt"
 }
 

@@ -521,7 +521,7 @@ def synthetic_tables(raw):
     first = scenes[0]
     depth_frames = next((", ".join(str(f) for f in d["frames"]) for s in scenes
                          for d in s["depth"].values()), "–")
-    setup = ("Scenes of eval/synthetic_scenes.tsv made by make_synthetic_scene --frames %s "
+    setup = ("Scenes of eval/synthetic_scenes.tsv made by make_synthetic_scene --num-frames %s "
              "--scale %s plus each scene's arguments. Novel views: frame 0's depth (radar; or all "
              "LiDAR returns) at %s %% retention, rendered with GEN3C's splatting at 352x640 into "
              "the 16 recorded poses; the oracle renders the exact depth with the sky at GEN3C's "

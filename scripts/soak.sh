@@ -43,7 +43,7 @@ BAG="$OUT/scene_${SCALE}_${FRAMES}.bag"
 if [[ ! -f "$BAG" ]]; then
   echo "[soak] writing the synthetic bag ($FRAMES frames, scale $SCALE) to $BAG"
   rm -rf "$OUT/scene"
-  "$TOOLS/make_synthetic_scene" --output "$OUT/scene" --scale "$SCALE" --frames "$FRAMES" \
+  "$TOOLS/make_synthetic_scene" --output "$OUT/scene" --scale "$SCALE" --num-frames "$FRAMES" \
     --threads 1 > "$OUT/scene.log" 2>&1
   "$TOOLS/vod_to_bag" --vod-root "$OUT/scene" --frames "0-$((FRAMES - 1))" --output "$BAG.tmp" \
     > "$OUT/bag.log" 2>&1

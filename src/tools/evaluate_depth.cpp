@@ -16,6 +16,8 @@
 
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
+#include "common/frame_options.hpp"
+#include "common/json_output.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
@@ -30,109 +32,75 @@ namespace mm = multimodal_nvs;
 
 namespace {
 
-void declareOptions(mm::cli::Args& args) {
-  mm::cli::declareDepthModelOptions(args);
-  args.option("vod-root", 1, "View-of-Delft layout root (real VoD or make_synthetic_scene output)");
-  args.option("frames", 1, "frames: numbers and ranges, e.g. 549,1047 or 8350-8365");
-  args.option("frames-file", 1, "file with one frame number per line (instead of --frames)");
-  args.option("shard", 1, "i/N: evaluate only frames with list index % N == i", "0/1");
-  args.option("input", 1, "radar|lidar: the sensor completed from", "radar");
-  args.option("subsample", 1,
-              "use every k-th input return (1-in-k); with LiDAR input and LiDAR "
-              "ground truth the other returns become the ground truth",
-              "1");
-  args.option("subsample-phase", 1, "which return of each k starts the input subsample", "0");
-  args.option("gt", 1,
-              "auto|lidar|dense: ground truth (auto: ROOT/depth_gt/NNNNN.npy when it "
-              "exists, else the LiDAR scan)",
-              "auto");
-  args.option("pred", 1,
-              "evaluate saved output PREFIX_depth.npy (+ PREFIX_variance.npy for "
-              "retention) of one frame instead of running a model");
-  args.option("stride", 1, "grid step in pixels (as complete_depth --stride)", "1");
-  args.option("retain-percent", 1,
-              "comma list: keep p% of all grid pixels with the lowest "
-              "variance, evaluated on the kept pixels (100: every prediction)",
-              "100");
-  args.option("calibration-levels", 1,
-              "comma list of nominal coverages (percent, in (0, 100)) of the central Gaussian "
-              "intervals mean +- z sigma whose observed coverage is reported",
-              "50,68,80,90,95,99");
-  args.option("max-depth", 1, "range cap: ignore ground truth deeper than this (0: none)", "0");
-  args.option("image-size", 2, "image size H W (default: from the frame's image)");
-  args.option("repeat", 1, "run the model N times per frame and report the median time", "1");
-  args.option("label", 1, "name of this configuration in the JSON (default: the model)");
-  args.option("output", 1, "write the full JSON (per frame and aggregate) to this file");
-}
-
-std::string num(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
-}
-
-std::vector<int> parseFrameList(const std::string& text) {
-  std::vector<int> frames;
-  std::stringstream list(text);
-  std::string item;
-  while (std::getline(list, item, ',')) {
-    item.erase(0, item.find_first_not_of(" \t"));
-    item.erase(item.find_last_not_of(" \t\r") + 1);
-    if (item.empty()) continue;
-    const std::size_t dash = item.find('-', 1);
-    if (dash == std::string::npos) {
-      frames.push_back(mm::io::parseFrameNumber(item));
-      continue;
-    }
-    const int a = mm::io::parseFrameNumber(item.substr(0, dash));
-    const int b = mm::io::parseFrameNumber(item.substr(dash + 1));
-    if (b < a) throw mm::cli::UsageError("--frames: range '" + item + "' needs A <= B");
-    for (int f = a; f <= b; ++f)
-      frames.push_back(f);
-  }
-  if (frames.empty()) throw mm::cli::UsageError("--frames: no frame in '" + text + "'");
-  return frames;
-}
-
-std::vector<int> framesFrom(const mm::cli::Args& args) {
-  if (args.has("frames") == args.has("frames-file")) {
-    throw mm::cli::UsageError("give exactly one of --frames LIST or --frames-file FILE");
-  }
-  if (args.has("frames")) return parseFrameList(args.str("frames"));
-  const std::string path = args.str("frames-file");
-  std::ifstream in(path);
-  if (!in) throw mm::InputError(path + ": cannot open frame list");
-  std::string line, joined;
-  while (std::getline(in, line)) {
-    const std::size_t hash = line.find('#');
-    if (hash != std::string::npos) line.erase(hash);
-    if (line.find_first_not_of(" \t\r") != std::string::npos) joined += line + ",";
-  }
-  if (joined.empty()) throw mm::InputError(path + ": no frame numbers");
-  return parseFrameList(joined);
-}
-
-struct Shard {
-  int index = 0, count = 1;
+struct Options {
+  mm::cli::DepthModelOptions depth;
+  mm::cli::FrameOptions frames;
+  std::string vod_root, input = "radar", gt = "auto", pred, retain_percent = "100",
+                        calibration_levels = "50,68,80,90,95,99", label, output;
+  int subsample = 1, subsample_phase = 0, stride = 1, repeat = 1;
+  double max_depth = 0.0;
+  std::vector<int> image_size;
 };
 
-Shard parseShard(const std::string& text) {
-  Shard s;
-  const std::size_t slash = text.find('/');
-  char* end = nullptr;
-  bool ok = slash != std::string::npos;
-  if (ok) {
-    const std::string a = text.substr(0, slash), b = text.substr(slash + 1);
-    s.index = static_cast<int>(std::strtol(a.c_str(), &end, 10));
-    ok = !a.empty() && *end == '\0';
-    s.count = static_cast<int>(std::strtol(b.c_str(), &end, 10));
-    ok = ok && !b.empty() && *end == '\0';
-  }
-  if (!ok || s.count < 1 || s.index < 0 || s.index >= s.count) {
-    throw mm::cli::UsageError("--shard must be i/N with 0 <= i < N, got '" + text + "'");
-  }
-  return s;
+void declareOptions(CLI::App& app, Options& o) {
+  const char* in = mm::cli::kRequired;
+  app.add_option("--vod-root", o.vod_root,
+                 "View-of-Delft layout root (real VoD or make_synthetic_scene output)")
+      ->required()
+      ->group(in);
+  mm::cli::declareFrameOptions(app, o.frames, in,
+                               "frames: numbers and ranges, e.g. 549,1047 or 8350-8365", true);
+  const char* inputs = mm::cli::kInputs;
+  app.add_option("--input", o.input, "radar|lidar: the sensor completed from")
+      ->check(CLI::IsMember({"radar", "lidar"}))
+      ->group(inputs);
+  app.add_option("--subsample", o.subsample,
+                 "use every k-th input return (1-in-k); with LiDAR input and LiDAR ground truth "
+                 "the other returns become the ground truth")
+      ->check(mm::cli::atLeast(1))
+      ->group(inputs);
+  app.add_option("--subsample-phase", o.subsample_phase,
+                 "which return of each k starts the input subsample")
+      ->check(mm::cli::atLeast(0))
+      ->group(inputs);
+  app.add_option("--gt", o.gt,
+                 "auto|lidar|dense: ground truth (auto: ROOT/depth_gt/NNNNN.npy when it exists, "
+                 "else the LiDAR scan)")
+      ->check(CLI::IsMember({"auto", "lidar", "dense"}))
+      ->group(inputs);
+  app.add_option("--pred", o.pred,
+                 "evaluate saved output PREFIX_depth.npy (+ PREFIX_variance.npy for retention) of "
+                 "one frame instead of running a model")
+      ->group(inputs);
+  app.add_option("--image-size", o.image_size, "image size (default: from the frame's image)")
+      ->expected(2)
+      ->default_str("")
+      ->check(mm::cli::atLeast(1))
+      ->group(inputs);
+  const char* out = mm::cli::kOutput;
+  app.add_option("--output", o.output, "write the full JSON (per frame and aggregate) to this file")
+      ->group(out);
+  app.add_option("--label", o.label, "name of this configuration in the JSON (default: the model)")
+      ->group(out);
+  app.add_option("--stride", o.stride, "grid step in pixels (as complete_depth --stride)")
+      ->check(mm::cli::atLeast(1))
+      ->group(out);
+  app.add_option("--retain-percent", o.retain_percent,
+                 "comma list: keep p% of all grid pixels with the lowest variance, evaluated on "
+                 "the kept pixels (100: every prediction)")
+      ->group(out);
+  app.add_option("--calibration-levels", o.calibration_levels,
+                 "comma list of nominal coverages (percent, in (0, 100)) of the central Gaussian "
+                 "intervals mean +- z sigma whose observed coverage is reported")
+      ->group(out);
+  app.add_option("--max-depth", o.max_depth,
+                 "range cap: ignore ground truth deeper than this (0: none)")
+      ->check(mm::cli::atLeast(0))
+      ->group(out);
+  mm::cli::declareDepthModelOptions(app, o.depth);
+  app.add_option("--repeat", o.repeat, "run the model N times per frame and report the median time")
+      ->check(mm::cli::atLeast(1))
+      ->group(mm::cli::kOptions);
 }
 
 /// Comma list of percentages for `option`; open = exclude 0 and 100.
@@ -167,15 +135,8 @@ std::vector<Eigen::Vector3f> subsample(const std::vector<Eigen::Vector3f>& point
   return out;
 }
 
-mm::ImageSize imageSizeOf(const mm::cli::Args& args, const mm::io::VodFrame& frame) {
-  if (args.has("image-size")) {
-    const auto& hw = args.list("image-size");
-    const mm::ImageSize size{std::atoi(hw[0].c_str()), std::atoi(hw[1].c_str())};
-    if (size.height <= 0 || size.width <= 0) {
-      throw mm::cli::UsageError("--image-size must be positive");
-    }
-    return size;
-  }
+mm::ImageSize imageSizeOf(const Options& o, const mm::io::VodFrame& frame) {
+  if (!o.image_size.empty()) return {o.image_size[0], o.image_size[1]};
   const std::string path = frame.image();
   if (!mm::io::fileExists(path)) {
     throw mm::InputError(path + ": image not found (give --image-size H W)");
@@ -215,39 +176,41 @@ struct FrameResult {
   std::vector<RetentionResult> retention;
 };
 
-std::string sumsJson(const mm::DepthErrorSums& s) {
-  std::ostringstream o;
-  o << "{\"gt_pixels\": " << s.gt_pixels << ", \"count\": " << s.count
-    << ", \"abs_error\": " << num(s.abs_error) << ", \"sq_error\": " << num(s.sq_error)
-    << ", \"sq_log_error\": " << num(s.sq_log_error) << ", \"abs_rel\": " << num(s.abs_rel)
-    << ", \"delta1\": " << s.delta1 << "}";
-  return o.str();
+mm::cli::Json sumsJson(const mm::DepthErrorSums& s) {
+  return {{"gt_pixels", s.gt_pixels},
+          {"count", s.count},
+          {"abs_error", mm::cli::number(s.abs_error)},
+          {"sq_error", mm::cli::number(s.sq_error)},
+          {"sq_log_error", mm::cli::number(s.sq_log_error)},
+          {"abs_rel", mm::cli::number(s.abs_rel)},
+          {"delta1", s.delta1}};
 }
 
-/// [{"level": p, "observed": share, "inside": count}, ...] of the central intervals.
-std::string calibrationJson(const mm::CalibrationCounts& c) {
-  std::ostringstream o;
-  o << "[";
+/// [{"level": p, "observed": share, "inside": count, "count": n}, ...] of the central intervals.
+mm::cli::Json calibrationJson(const mm::CalibrationCounts& c) {
+  mm::cli::Json out = mm::cli::Json::array();
   for (std::size_t i = 0; i < c.levels.size(); ++i) {
-    o << (i ? ", " : "") << "{\"level\": " << num(c.levels[i])
-      << ", \"observed\": " << num(c.observed(i)) << ", \"inside\": " << c.inside[i]
-      << ", \"count\": " << c.count << "}";
+    out.push_back({{"level", mm::cli::number(c.levels[i])},
+                   {"observed", mm::cli::number(c.observed(i))},
+                   {"inside", c.inside[i]},
+                   {"count", c.count}});
   }
-  o << "]";
-  return o.str();
+  return out;
 }
 
-std::string metricsJson(const mm::DepthMetrics& m) {
-  std::ostringstream o;
-  o << "{\"count\": " << m.count << ", \"gt_pixels\": " << m.gt_pixels
-    << ", \"mae\": " << num(m.mae) << ", \"rmse\": " << num(m.rmse)
-    << ", \"rmse_log\": " << num(m.rmse_log) << ", \"abs_rel\": " << num(m.abs_rel)
-    << ", \"delta1\": " << num(m.delta1) << ", \"coverage\": " << num(m.coverage) << "}";
-  return o.str();
+mm::cli::Json metricsJson(const mm::DepthMetrics& m) {
+  return {{"count", m.count},
+          {"gt_pixels", m.gt_pixels},
+          {"mae", mm::cli::number(m.mae)},
+          {"rmse", mm::cli::number(m.rmse)},
+          {"rmse_log", mm::cli::number(m.rmse_log)},
+          {"abs_rel", mm::cli::number(m.abs_rel)},
+          {"delta1", mm::cli::number(m.delta1)},
+          {"coverage", mm::cli::number(m.coverage)}};
 }
 
 /// Mean over frames of each metric (frames where it is undefined are skipped).
-std::string meanOverFramesJson(const std::vector<FrameResult>& frames, std::size_t level) {
+mm::cli::Json meanOverFramesJson(const std::vector<FrameResult>& frames, std::size_t level) {
   double sum[6] = {0, 0, 0, 0, 0, 0};
   int count[6] = {0, 0, 0, 0, 0, 0};
   for (const FrameResult& f : frames) {
@@ -261,14 +224,12 @@ std::string meanOverFramesJson(const std::vector<FrameResult>& frames, std::size
     }
   }
   auto mean = [&](int i) {
-    return count[i] > 0 ? sum[i] / count[i] : std::numeric_limits<double>::quiet_NaN();
+    return mm::cli::number(count[i] > 0 ? sum[i] / count[i]
+                                        : std::numeric_limits<double>::quiet_NaN());
   };
-  std::ostringstream o;
-  o << "{\"frames\": " << frames.size() << ", \"mae\": " << num(mean(0))
-    << ", \"rmse\": " << num(mean(1)) << ", \"rmse_log\": " << num(mean(2))
-    << ", \"abs_rel\": " << num(mean(3)) << ", \"delta1\": " << num(mean(4))
-    << ", \"coverage\": " << num(mean(5)) << "}";
-  return o.str();
+  return {{"frames", frames.size()}, {"mae", mean(0)},     {"rmse", mean(1)},
+          {"rmse_log", mean(2)},     {"abs_rel", mean(3)}, {"delta1", mean(4)},
+          {"coverage", mean(5)}};
 }
 
 double median(std::vector<double> v) {
@@ -280,51 +241,42 @@ double median(std::vector<double> v) {
 }
 
 int run(int argc, char** argv) {
-  mm::cli::Args args("evaluate_depth",
-                     "Depth accuracy (MAE, RMSE, RMSE_log, AbsRel, delta<1.25) of a completion "
-                     "model against projected LiDAR or exact depth, per frame and aggregated.");
-  declareOptions(args);
-  if (!args.parse(argc, argv)) return 0;
-  if (!args.has("vod-root")) throw mm::cli::UsageError("--vod-root DIR is required");
-  const std::string root = args.str("vod-root");
-  const std::vector<int> all_frames = framesFrom(args);
-  const Shard shard = parseShard(args.str("shard", "0/1"));
-  const std::string input = args.str("input", "radar");
-  if (input != "radar" && input != "lidar")
-    throw mm::cli::UsageError("--input must be radar or lidar");
-  const int k = args.integer("subsample", 1);
-  const int phase = args.integer("subsample-phase", 0);
-  if (k < 1) throw mm::cli::UsageError("--subsample must be >= 1");
-  if (phase < 0 || phase >= k) throw mm::cli::UsageError("--subsample-phase must be in [0, k)");
-  const std::string gt_mode = args.str("gt", "auto");
-  if (gt_mode != "auto" && gt_mode != "lidar" && gt_mode != "dense") {
-    throw mm::cli::UsageError("--gt must be auto, lidar or dense");
-  }
-  const std::vector<double> levels =
-      parsePercentList("retain-percent", args.str("retain-percent", "100"), false);
+  CLI::App app(
+      "Depth accuracy (MAE, RMSE, RMSE_log, AbsRel, delta<1.25) of a completion model "
+      "against projected LiDAR or exact depth, per frame and aggregated.",
+      "evaluate_depth");
+  mm::cli::setUp(app,
+                 "evaluate_depth --vod-root data/vod --frames 549,1047 --model local_gp_mle "
+                 "--retain-percent 100,80 --output eval.json");
+  Options o;
+  declareOptions(app, o);
+  if (!mm::cli::parse(app, argc, argv)) return 0;
+  const std::string& root = o.vod_root;
+  const std::vector<int> frames = mm::cli::selectedFrames(o.frames);
+  const mm::cli::Shard shard = mm::cli::parseShard(o.frames.shard);
+  const std::string& input = o.input;
+  const int k = o.subsample;
+  const int phase = o.subsample_phase;
+  if (phase >= k) throw mm::cli::UsageError("--subsample-phase must be in [0, k)");
+  const std::string& gt_mode = o.gt;
+  const std::vector<double> levels = parsePercentList("retain-percent", o.retain_percent, false);
   std::vector<double> calibration_levels;
-  for (double p : parsePercentList("calibration-levels",
-                                   args.str("calibration-levels", "50,68,80,90,95,99"), true)) {
+  for (double p : parsePercentList("calibration-levels", o.calibration_levels, true)) {
     calibration_levels.push_back(p / 100.0);
   }
-  const int stride = args.integer("stride", 1);
-  if (stride < 1) throw mm::cli::UsageError("--stride must be >= 1");
-  const int repeat = std::max(1, args.integer("repeat", 1));
+  const int stride = o.stride;
+  const int repeat = o.repeat;
   mm::DepthEvaluationOptions options;
-  options.max_depth = args.number("max-depth", 0.0);
-  if (!(options.max_depth >= 0.0)) throw mm::cli::UsageError("--max-depth must be >= 0");
-  const bool from_file = args.has("pred");
+  options.max_depth = o.max_depth;
+  const bool from_file = !o.pred.empty();
   // Retention is applied per requested level from one run, so the model runs with 100 %.
-  const mm::DepthCompletionParams params = mm::cli::depthModelParams(args);
-  if (from_file && all_frames.size() != 1) {
+  const mm::DepthCompletionParams params = mm::cli::depthModelParams(o.depth);
+  if (from_file && frames.size() != 1) {
     throw mm::cli::UsageError("--pred evaluates one frame: give a single --frames value");
   }
-  const std::string label = args.str("label", from_file ? "file" : mm::toString(params.model));
-
-  std::vector<int> frames;
-  for (std::size_t i = 0; i < all_frames.size(); ++i) {
-    if (static_cast<int>(i % shard.count) == shard.index) frames.push_back(all_frames[i]);
-  }
+  const std::string label = !o.label.empty() ? o.label
+                            : from_file      ? "file"
+                                             : mm::toString(params.model);
 
   mm::DepthCompleter completer(params.threads);
   std::vector<FrameResult> results;
@@ -333,7 +285,7 @@ int run(int argc, char** argv) {
     FrameResult res;
     res.frame = number;
     mm::StrideGrid grid;
-    grid.image = imageSizeOf(args, frame);
+    grid.image = imageSizeOf(o, frame);
     grid.stride = stride;
     const std::size_t n = static_cast<std::size_t>(grid.size());
 
@@ -382,7 +334,7 @@ int run(int argc, char** argv) {
     std::vector<std::uint8_t> predicted;
     if (from_file) {
       int h = 0, w = 0;
-      const std::string prefix = args.str("pred");
+      const std::string& prefix = o.pred;
       depth = readImageNpy(prefix + "_depth.npy", &h, &w);
       if (h != grid.rows() || w != grid.cols()) {
         throw mm::InputError(prefix + "_depth.npy: is " + std::to_string(h) + "x" +
@@ -417,7 +369,8 @@ int run(int argc, char** argv) {
       std::vector<double> times;
       mm::DepthMap map;
       mm::DepthCompletionParams frame_params = params;
-      mm::cli::applyGroundPose(args, frame.pose(), frame_params);  // ground_gp: this frame's pose
+      mm::cli::applyGroundPose(o.depth, frame.pose(),
+                               frame_params);  // ground_gp: this frame's pose
       for (int i = 0; i < repeat; ++i) {
         completer.complete(points_camera, intrinsics, grid, frame_params, map);
         times.push_back(map.stats.compute_ms);
@@ -449,22 +402,23 @@ int run(int argc, char** argv) {
   }
 
   // JSON: configuration, per frame, aggregate per retention level.
-  std::ostringstream config;
-  config << "{\"label\": \"" << mm::cli::jsonEscape(label) << "\", \"model\": \""
-         << (from_file ? "file" : mm::toString(params.model)) << "\", \"input\": \"" << input
-         << "\", \"subsample\": " << k << ", \"subsample_phase\": " << phase << ", \"gt\": \""
-         << gt_mode << "\", \"stride\": " << stride
-         << ", \"radius_deg\": " << num(params.radius_deg)
-         << ", \"max_neighbors\": " << params.max_neighbors
-         << ", \"max_depth\": " << num(options.max_depth)
-         << ", \"threads\": " << completer.threads() << ", \"vod_root\": \""
-         << mm::cli::jsonEscape(root) << "\", \"shard\": [" << shard.index << ", " << shard.count
-         << "]}";
+  const mm::cli::Json config = {{"label", label},
+                                {"model", from_file ? "file" : mm::toString(params.model)},
+                                {"input", input},
+                                {"subsample", k},
+                                {"subsample_phase", phase},
+                                {"gt", gt_mode},
+                                {"stride", stride},
+                                {"radius_deg", mm::cli::number(params.radius_deg)},
+                                {"max_neighbors", params.max_neighbors},
+                                {"max_depth", mm::cli::number(options.max_depth)},
+                                {"threads", completer.threads()},
+                                {"vod_root", root},
+                                {"shard", {shard.index, shard.count}}};
   std::vector<double> runtimes;
   for (const FrameResult& f : results)
     runtimes.push_back(f.runtime_ms);
-  std::ostringstream aggregate;
-  aggregate << "[";
+  mm::cli::Json aggregate = mm::cli::Json::array();
   for (std::size_t l = 0; l < levels.size(); ++l) {
     mm::DepthErrorSums pooled;
     mm::CalibrationCounts calibration;
@@ -476,50 +430,53 @@ int run(int argc, char** argv) {
       calibration.merge(f.retention[l].calibration);
       kept += f.retention[l].kept;
     }
-    aggregate << (l ? ", " : "") << "{\"retain_percent\": " << num(levels[l])
-              << ", \"kept\": " << kept
-              << ", \"pooled\": " << metricsJson(mm::DepthMetrics::from(pooled))
-              << ", \"mean_over_frames\": " << meanOverFramesJson(results, l)
-              << ", \"sums\": " << sumsJson(pooled)
-              << ", \"calibration\": " << calibrationJson(calibration) << "}";
+    aggregate.push_back({{"retain_percent", mm::cli::number(levels[l])},
+                         {"kept", kept},
+                         {"pooled", metricsJson(mm::DepthMetrics::from(pooled))},
+                         {"mean_over_frames", meanOverFramesJson(results, l)},
+                         {"sums", sumsJson(pooled)},
+                         {"calibration", calibrationJson(calibration)}});
   }
-  aggregate << "]";
 
-  std::ostringstream full;
-  full << "{\n  \"tool\": \"evaluate_depth\",\n  \"config\": " << config.str()
-       << ",\n  \"protocol\": \"metrics over ground-truth pixels (finite, > 0, within max_depth) "
-          "that have a kept prediction; predictions clipped to [0.001, max_depth]; coverage = "
-          "evaluated / ground-truth pixels; RMSE_log uses the natural log; calibration = share of "
-          "the evaluated pixels whose truth lies in the central Gaussian interval mean +- z sigma "
-          "of each nominal level (sigma^2 = the predicted variance); runtime_ms = model "
-          "compute time (median over --repeat)\",\n  \"frames\": [\n";
-  for (std::size_t i = 0; i < results.size(); ++i) {
-    const FrameResult& f = results[i];
-    full << "    {\"frame\": " << f.frame << ", \"gt\": \"" << f.gt_kind
-         << "\", \"input_points\": " << f.input_points << ", \"input_in_view\": " << f.input_in_view
-         << ", \"gt_points\": " << f.gt_points << ", \"runtime_ms\": " << num(f.runtime_ms)
-         << ", \"retention\": [";
-    for (std::size_t l = 0; l < f.retention.size(); ++l) {
-      const RetentionResult& r = f.retention[l];
-      full << (l ? ", " : "") << "{\"retain_percent\": " << num(r.percent)
-           << ", \"kept\": " << r.kept
-           << ", \"metrics\": " << metricsJson(mm::DepthMetrics::from(r.sums))
-           << ", \"sums\": " << sumsJson(r.sums)
-           << ", \"calibration\": " << calibrationJson(r.calibration) << "}";
+  mm::cli::Json per_frame = mm::cli::Json::array();
+  for (const FrameResult& f : results) {
+    mm::cli::Json retention = mm::cli::Json::array();
+    for (const RetentionResult& r : f.retention) {
+      retention.push_back({{"retain_percent", mm::cli::number(r.percent)},
+                           {"kept", r.kept},
+                           {"metrics", metricsJson(mm::DepthMetrics::from(r.sums))},
+                           {"sums", sumsJson(r.sums)},
+                           {"calibration", calibrationJson(r.calibration)}});
     }
-    full << "]}" << (i + 1 < results.size() ? "," : "") << "\n";
+    per_frame.push_back({{"frame", f.frame},
+                         {"gt", f.gt_kind},
+                         {"input_points", f.input_points},
+                         {"input_in_view", f.input_in_view},
+                         {"gt_points", f.gt_points},
+                         {"runtime_ms", mm::cli::number(f.runtime_ms)},
+                         {"retention", retention}});
   }
-  full << "  ],\n  \"median_runtime_ms\": " << num(median(runtimes))
-       << ",\n  \"aggregate\": " << aggregate.str() << "\n}\n";
-  if (args.has("output")) {
-    const std::string path = args.str("output");
-    std::ofstream out(path);
-    out << full.str();
-    if (!out) throw mm::InputError(path + ": cannot write");
+  if (!o.output.empty()) {
+    const mm::cli::Json full = {
+        {"tool", "evaluate_depth"},
+        {"config", config},
+        {"protocol",
+         "metrics over ground-truth pixels (finite, > 0, within max_depth) that have a kept "
+         "prediction; predictions clipped to [0.001, max_depth]; coverage = evaluated / "
+         "ground-truth pixels; RMSE_log uses the natural log; calibration = share of the "
+         "evaluated pixels whose truth lies in the central Gaussian interval mean +- z sigma of "
+         "each nominal level (sigma^2 = the predicted variance); runtime_ms = model compute time "
+         "(median over --repeat)"},
+        {"frames", per_frame},
+        {"median_runtime_ms", mm::cli::number(median(runtimes))},
+        {"aggregate", aggregate}};
+    mm::cli::writeTextFile(o.output, mm::cli::document(full));
   }
-  std::cout << "{\"config\": " << config.str() << ", \"frames\": " << results.size()
-            << ", \"median_runtime_ms\": " << num(median(runtimes))
-            << ", \"aggregate\": " << aggregate.str() << "}" << std::endl;
+  const mm::cli::Json summary = {{"config", config},
+                                 {"frames", results.size()},
+                                 {"median_runtime_ms", mm::cli::number(median(runtimes))},
+                                 {"aggregate", aggregate}};
+  std::cout << mm::cli::oneLine(summary) << std::endl;
   return 0;
 }
 

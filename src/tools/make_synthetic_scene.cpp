@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "common/cli.hpp"
+#include "common/frame_options.hpp"
+#include "common/json_output.hpp"
 #include "multimodal_nvs/core/synthetic/dataset.hpp"
 
 namespace mm = multimodal_nvs;
@@ -14,40 +16,114 @@ namespace syn = multimodal_nvs::synthetic;
 
 namespace {
 
-void declareOptions(mm::cli::Args& args) {
-  args.option("output", 1, "output directory (VoD layout root)");
-  args.option("frames", 1, "number of frames", "16");
-  args.option("first-frame", 1, "number of the first frame's files", "0");
-  args.option("seed", 1, "random seed of the street and the sensor noise", "1");
-  args.option("scale", 1, "image size relative to the VoD camera 1936x1216, e.g. 0.25", "1");
-  args.option("supersample", 1, "colour rays per pixel per axis (0: 2 if scale <= 0.5, else 1)",
-              "0");
-  args.option("speed", 1, "driving speed in m/s (10 frames per second)", "4");
-  args.option("camera-height", 1, "camera height above the road (m)", "1.3");
-  args.option("camera-pitch", 1, "camera pitch above the horizon (deg, positive: looking up)", "0");
-  args.option("vehicles", 1, "extra stopped cars, vans and trucks in the driving lanes", "0");
-  args.option("pedestrians", 1, "pedestrians on the sidewalks and crossing ahead", "0");
-  args.option("poles", 1, "extra posts at the curb", "0");
-  args.option("radar-candidates", 1, "radar beam directions tried per scan (return density)",
-              "1600");
-  args.option("radar-range-sigma", 1, "radar range noise (m)", "0.1");
-  args.option("radar-angle-sigma", 2, "radar azimuth and elevation noise (deg)", "0.25 0.5");
-  args.option("radar-clutter", 1, "share of radar returns that are clutter", "0.05");
-  args.option("lidar-beams", 1, "LiDAR beams: 16 (VLP-16), 32 (HDL-32E) or 64 (HDL-64E)", "64");
-  args.option("lidar-range-sigma", 1, "LiDAR range noise (m)", "0.02");
-  args.option("lidar-azimuth-step", 1, "LiDAR azimuth resolution (deg)", "0.2");
-  args.option("jpeg-quality", 1, "JPEG quality of the camera images", "95");
-  args.option("threads", 1, "worker threads (0: all cores)", "0");
-  args.flag("quiet", "no progress bar");
+struct Options {
+  syn::SyntheticDatasetParams p;
+  std::string output, frames;
+  std::vector<double> radar_angle_sigma;
+  int lidar_beams = 64;
+  bool quiet = false;
+};
+
+void declareOptions(CLI::App& app, Options& o) {
+  syn::SyntheticDatasetParams& p = o.p;
+  app.add_option("--output", o.output, "output directory (VoD layout root)")
+      ->required()
+      ->group(mm::cli::kRequired);
+  const char* scene = "Scene";
+  app.add_option("--num-frames", p.frames, "number of frames")
+      ->check(mm::cli::atLeast(1))
+      ->group(scene);
+  app.add_option("--first-frame", p.first_frame, "number of the first frame's files")
+      ->check(mm::cli::atLeast(0))
+      ->group(scene);
+  app.add_option("--frames", o.frames,
+                 "the frames to write as one range A-B, as in the other tools (instead of "
+                 "--first-frame and --num-frames)")
+      ->group(scene);
+  app.add_option("--seed", p.seed, "random seed of the street and the sensor noise")
+      ->check(mm::cli::atLeast(0))
+      ->group(scene);
+  app.add_option("--scale", p.scale, "image size relative to the VoD camera 1936x1216, e.g. 0.25")
+      ->check(mm::cli::positive())
+      ->group(scene);
+  app.add_option("--supersample", p.supersample,
+                 "colour rays per pixel per axis (0: 2 if scale <= 0.5, else 1)")
+      ->check(mm::cli::atLeast(0))
+      ->group(scene);
+  app.add_option("--speed", p.path.speed, "driving speed in m/s (10 frames per second)")
+      ->check(mm::cli::finite())
+      ->group(scene);
+  app.add_option("--camera-height", p.camera_height, "camera height above the road (m)")
+      ->check(mm::cli::positive())
+      ->group(scene);
+  app.add_option("--camera-pitch", p.camera_pitch_deg,
+                 "camera pitch above the horizon (deg, positive: looking up)")
+      ->check(mm::cli::finite())
+      ->group(scene);
+  app.add_option("--vehicles", p.extra_vehicles,
+                 "extra stopped cars, vans and trucks in the driving lanes")
+      ->group(scene);
+  app.add_option("--pedestrians", p.pedestrians, "pedestrians on the sidewalks and crossing ahead")
+      ->group(scene);
+  app.add_option("--poles", p.extra_poles, "extra posts at the curb")->group(scene);
+  const char* sensors = "Sensors";
+  app.add_option("--radar-candidates", p.radar.candidates,
+                 "radar beam directions tried per scan (return density)")
+      ->check(mm::cli::atLeast(1))
+      ->group(sensors);
+  app.add_option("--lidar-beams", o.lidar_beams,
+                 "LiDAR beams: 16 (VLP-16), 32 (HDL-32E) or 64 (HDL-64E)")
+      ->check(CLI::IsMember({16, 32, 64}))
+      ->group(sensors);
+  app.add_option("--radar-range-sigma", p.radar.range_sigma, "radar range noise (m)")
+      ->check(mm::cli::atLeast(0))
+      ->group(sensors);
+  app.add_option("--radar-angle-sigma", o.radar_angle_sigma,
+                 "radar azimuth and elevation noise (deg)")
+      ->expected(2)
+      ->default_str(mm::cli::number(p.radar.azimuth_sigma_deg).dump() + " " +
+                    mm::cli::number(p.radar.elevation_sigma_deg).dump())
+      ->check(mm::cli::atLeast(0))
+      ->group(sensors);
+  app.add_option("--radar-clutter", p.radar.clutter_fraction,
+                 "share of radar returns that are clutter")
+      ->check(CLI::Range(0.0, 1.0))
+      ->group(sensors);
+  app.add_option("--lidar-range-sigma", p.lidar.range_sigma, "LiDAR range noise (m)")
+      ->check(mm::cli::atLeast(0))
+      ->group(sensors);
+  app.add_option("--lidar-azimuth-step", p.lidar.azimuth_step_deg, "LiDAR azimuth resolution (deg)")
+      ->check(mm::cli::positive())
+      ->group(sensors);
+  app.add_option("--jpeg-quality", p.jpeg_quality, "JPEG quality of the camera images")
+      ->check(CLI::Range(0, 100))
+      ->group(sensors);
+  app.add_option("--threads", p.threads, "worker threads (0: all cores)")
+      ->check(mm::cli::atLeast(0))
+      ->group(mm::cli::kOptions);
+  app.add_flag("--quiet", o.quiet, "no progress bar")->group(mm::cli::kOptions);
 }
 
-std::uint64_t parseSeed(const std::string& text) {
-  char* end = nullptr;
-  const unsigned long long v = std::strtoull(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || text[0] == '-') {
-    throw mm::cli::UsageError("--seed must be a non-negative integer, got '" + text + "'");
+/// --frames A-B: the shared frame-list syntax, restricted to one ascending range.
+void applyFrameRange(const CLI::App& app, Options& o) {
+  if (o.frames.empty()) return;
+  if (mm::cli::given(app, "--num-frames") || mm::cli::given(app, "--first-frame")) {
+    throw mm::cli::UsageError(
+        "--frames replaces --first-frame and --num-frames; give one or the other");
   }
-  return v;
+  const std::vector<int> frames = mm::cli::parseFrameList(o.frames);
+  for (std::size_t i = 1; i < frames.size(); ++i) {
+    if (frames[i] != frames[i - 1] + 1) {
+      throw mm::cli::UsageError("--frames: the synthetic scene is one drive; give one range A-B");
+    }
+  }
+  if (frames.size() == 1 && o.frames.find('-') == std::string::npos) {
+    throw mm::cli::UsageError(
+        "--frames " + o.frames + " would write the single frame " + o.frames +
+        "; --frames is a frame list as in the other tools (for a count use --num-frames N)");
+  }
+  o.p.first_frame = frames.front();
+  o.p.frames = static_cast<int>(frames.size());
 }
 
 void progressBar(int done, int total) {
@@ -58,59 +134,46 @@ void progressBar(int done, int total) {
 }
 
 int run(int argc, char** argv) {
-  mm::cli::Args args("make_synthetic_scene",
-                     "Writes a deterministic synthetic street (camera, radar, LiDAR, poses, depth "
-                     "ground truth) in the View-of-Delft layout.");
-  declareOptions(args);
-  if (!args.parse(argc, argv)) return 0;
-  if (!args.has("output")) throw mm::cli::UsageError("--output DIR is required");
-
-  syn::SyntheticDatasetParams p;
-  p.frames = args.integer("frames", p.frames);
-  p.first_frame = args.integer("first-frame", p.first_frame);
-  p.seed = parseSeed(args.str("seed", "1"));
-  p.scale = args.number("scale", p.scale);
-  p.supersample = args.integer("supersample", p.supersample);
-  p.path.speed = args.number("speed", p.path.speed);
-  p.camera_height = args.number("camera-height", p.camera_height);
-  p.camera_pitch_deg = args.number("camera-pitch", p.camera_pitch_deg);
-  p.extra_vehicles = args.integer("vehicles", p.extra_vehicles);
-  p.pedestrians = args.integer("pedestrians", p.pedestrians);
-  p.extra_poles = args.integer("poles", p.extra_poles);
-  p.radar.candidates = args.integer("radar-candidates", p.radar.candidates);
-  const int beams = args.integer("lidar-beams", p.lidar.rings);
-  if (beams != 16 && beams != 32 && beams != 64) {
-    throw mm::cli::UsageError("--lidar-beams must be 16, 32 or 64, got " + std::to_string(beams));
+  CLI::App app(
+      "Writes a deterministic synthetic street (camera, radar, LiDAR, poses, depth ground "
+      "truth) in the View-of-Delft layout.",
+      "make_synthetic_scene");
+  mm::cli::setUp(app, "make_synthetic_scene --output scene --num-frames 16 --scale 0.5 --seed 1");
+  Options o;
+  declareOptions(app, o);
+  if (!mm::cli::parse(app, argc, argv)) return 0;
+  applyFrameRange(app, o);
+  syn::SyntheticDatasetParams& p = o.p;
+  // The beam count picks a whole sensor model; the range noise and azimuth step given on the
+  // command line apply on top of it.
+  const double lidar_range_sigma = p.lidar.range_sigma,
+               lidar_azimuth_step = p.lidar.azimuth_step_deg;
+  p.lidar = syn::LidarParams::velodyne(o.lidar_beams);
+  p.lidar.range_sigma = lidar_range_sigma;
+  p.lidar.azimuth_step_deg = lidar_azimuth_step;
+  if (!o.radar_angle_sigma.empty()) {
+    p.radar.azimuth_sigma_deg = o.radar_angle_sigma[0];
+    p.radar.elevation_sigma_deg = o.radar_angle_sigma[1];
   }
-  p.lidar = syn::LidarParams::velodyne(beams);
-  p.radar.range_sigma = args.number("radar-range-sigma", p.radar.range_sigma);
-  if (args.has("radar-angle-sigma")) {
-    const auto& a = args.list("radar-angle-sigma");
-    p.radar.azimuth_sigma_deg = std::atof(a[0].c_str());
-    p.radar.elevation_sigma_deg = std::atof(a[1].c_str());
-  }
-  p.radar.clutter_fraction = args.number("radar-clutter", p.radar.clutter_fraction);
-  p.lidar.range_sigma = args.number("lidar-range-sigma", p.lidar.range_sigma);
-  p.lidar.azimuth_step_deg = args.number("lidar-azimuth-step", p.lidar.azimuth_step_deg);
-  p.jpeg_quality = args.integer("jpeg-quality", p.jpeg_quality);
-  p.threads = args.integer("threads", 0);
 
   const auto start = std::chrono::steady_clock::now();
   const syn::SyntheticDataset dataset(p);
-  const std::string root = args.str("output");
-  const bool quiet = args.has("quiet");
+  const std::string& root = o.output;
+  const bool quiet = o.quiet;
   dataset.write(root, [quiet](int done, int total) {
     if (!quiet) progressBar(done, total);
   });
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto& size = dataset.camera().size;
-  std::ostringstream json;
-  json << "{\"output\": \"" << mm::cli::jsonEscape(root) << "\", \"frames\": " << p.frames
-       << ", \"first_frame\": " << p.first_frame << ", \"seed\": " << p.seed
-       << ", \"width\": " << size.width << ", \"height\": " << size.height
-       << ", \"seconds\": " << seconds << "}";
-  std::cout << json.str() << std::endl;
+  const mm::cli::Json json = {{"output", root},
+                              {"frames", p.frames},
+                              {"first_frame", p.first_frame},
+                              {"seed", p.seed},
+                              {"width", size.width},
+                              {"height", size.height},
+                              {"seconds", mm::cli::number(seconds, 6)}};
+  std::cout << mm::cli::oneLine(json) << std::endl;
   return 0;
 }
 

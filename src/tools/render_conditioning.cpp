@@ -17,6 +17,8 @@
 #include <sstream>
 
 #include "common/cli.hpp"
+#include "common/frame_options.hpp"
+#include "common/json_output.hpp"
 #include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
@@ -36,43 +38,89 @@ namespace mm = multimodal_nvs;
 
 namespace {
 
-void declareOptions(mm::cli::Args& args) {
-  args.option("image", 1, "reference camera image (the one the depth map belongs to)");
-  args.option("depth", 1, "depth .npy (H x W float32, <= 0 = not kept), e.g. PREFIX_depth.npy");
-  args.option("valid", 1, "optional kept-pixel mask .npy (nonzero = kept), e.g. PREFIX_valid.npy");
-  args.option("calib", 1, "KITTI calibration whose P2 gives the image intrinsics");
-  args.option("intrinsics", 4, "fx fy cx cy of the image (instead of --calib)");
-  args.option("vod-root", 1, "View-of-Delft root: poses (and ground truth images) of --frames");
-  args.option("frames", 1, "recorded frame range A-B under --vod-root, e.g. 8350-8365");
-  args.option("poses", -1, "explicit VoD pose JSON files, first = reference view");
-  args.option("pose-key", 1, "pose key in the JSON files", mm::io::defaultVodPoseKey());
-  args.option(
-      "preset", 1,
-      "forward|backward|left|right|up|down (m), orbit_left|orbit_right|zoom_in|zoom_out (deg)");
-  args.option("magnitude", 1, "preset extent at the last frame, metres or degrees");
-  args.option("num-frames", 1, "frames to render", std::to_string(mm::kGen3cFrames));
-  args.option("size", 2, "render size H W",
-              std::to_string(mm::kGen3cHeight) + " " + std::to_string(mm::kGen3cWidth));
-  args.option("splat", 1, "gen3c|zbuffer", "gen3c");
-  args.option("resize-depth", 1,
-              "auto|yes|no: resample image+depth to the render size first (auto: yes for gen3c)",
-              "auto");
-  args.option("max-depth", 1, "clamp depth to this many metres (0: off)", "100");
-  args.option("edge-threshold", 1,
-              "drop pixels with (max-min)/mean >= this in a 5x5 window (0: off)", "0.05");
-  args.option("output", 1, "output directory");
-  args.flag("gen3c", "also write OUTPUT/gen3c/ with the arrays the diffusion stage loads");
-  args.option("gt", -1,
-              "ground-truth images of the recorded poses (default: VoD images of --frames)");
-  args.option("fps", 1, "preview video frame rate", "24");
-  args.option("threads", 1, "worker threads (0: all cores)", "0");
-}
+struct Options {
+  std::string image, depth, valid, calib, output, vod_root, preset, splat = "gen3c",
+                                                                    resize_depth = "auto";
+  std::string pose_key = mm::io::defaultVodPoseKey();
+  mm::cli::FrameOptions frames;
+  std::vector<double> intrinsics;
+  std::vector<std::string> poses, gt;
+  double magnitude = 0.0, max_depth = 100.0, edge_threshold = 0.05, fps = 24.0;
+  int num_frames = mm::kGen3cFrames, threads = 0;
+  std::vector<int> size{mm::kGen3cHeight, mm::kGen3cWidth};
+  bool gen3c = false;
+};
 
-std::string jsonNumber(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
+void declareOptions(CLI::App& app, Options& o) {
+  const char* in = mm::cli::kRequired;
+  app.add_option("--image", o.image, "reference camera image (the one the depth map belongs to)")
+      ->required()
+      ->group(in);
+  app.add_option("--depth", o.depth,
+                 "depth .npy (H x W float32, <= 0 = not kept), e.g. PREFIX_depth.npy")
+      ->required()
+      ->group(in);
+  app.add_option("--output", o.output, "output directory")->required()->group(in);
+  app.add_option("--calib", o.calib, "KITTI calibration whose P2 gives the image intrinsics")
+      ->group(in);
+  app.add_option("--intrinsics", o.intrinsics, "fx fy cx cy of the image (instead of --calib)")
+      ->expected(4)
+      ->default_str("")
+      ->check(mm::cli::finite())
+      ->group(in);
+  const char* trajectory = "Trajectory (exactly one: recorded frames, pose files or a preset)";
+  app.add_option("--vod-root", o.vod_root,
+                 "View-of-Delft root: poses (and ground-truth images) of --frames")
+      ->group(trajectory);
+  mm::cli::declareFrameOptions(app, o.frames, trajectory,
+                               "recorded frames under --vod-root, e.g. 8350-8365 (first = the "
+                               "reference view)",
+                               false);
+  app.add_option("--poses", o.poses, "explicit VoD pose JSON files, first = reference view")
+      ->group(trajectory);
+  mm::cli::declarePoseKeyOption(app, o.pose_key, trajectory,
+                                "whose relative motion is the recorded trajectory");
+  app.add_option("--preset", o.preset,
+                 "forward|backward|left|right|up|down (m), orbit_left|orbit_right|zoom_in|zoom_out "
+                 "(deg); needs no pose")
+      ->group(trajectory);
+  app.add_option("--magnitude", o.magnitude, "preset extent at the last frame, metres or degrees")
+      ->check(mm::cli::finite())
+      ->group(trajectory);
+  app.add_option("--gt", o.gt,
+                 "ground-truth images of the recorded poses (default: VoD images of --frames)")
+      ->group(trajectory);
+  const char* out = mm::cli::kOutput;
+  app.add_option("--valid", o.valid,
+                 "optional kept-pixel mask .npy (nonzero = kept), e.g. PREFIX_valid.npy")
+      ->group(mm::cli::kInputs);
+  app.add_option("--num-frames", o.num_frames, "frames to render")
+      ->check(mm::cli::atLeast(1))
+      ->group(out);
+  app.add_option("--size", o.size, "render size H W")
+      ->expected(2)
+      ->check(mm::cli::atLeast(1))
+      ->group(out);
+  app.add_option("--splat", o.splat, "gen3c|zbuffer")->group(out);
+  app.add_option("--resize-depth", o.resize_depth,
+                 "auto|yes|no: resample image+depth to the render size first (auto: yes for gen3c)")
+      ->group(out);
+  app.add_option("--max-depth", o.max_depth, "clamp depth to this many metres (0: off)")
+      ->check(mm::cli::atLeast(0))
+      ->group(out);
+  app.add_option("--edge-threshold", o.edge_threshold,
+                 "drop pixels with (max-min)/mean >= this in a 5x5 window (0: off)")
+      ->check(mm::cli::atLeast(0))
+      ->group(out);
+  app.add_flag("--gen3c", o.gen3c,
+               "also write OUTPUT/gen3c/ with the arrays the diffusion stage loads")
+      ->group(out);
+  app.add_option("--fps", o.fps, "preview video frame rate")
+      ->check(mm::cli::positive())
+      ->group(out);
+  app.add_option("--threads", o.threads, "worker threads (0: all cores)")
+      ->check(mm::cli::atLeast(0))
+      ->group(mm::cli::kOptions);
 }
 
 std::string frameName(int index) {
@@ -116,18 +164,12 @@ struct RecordedInput {
   std::vector<std::string> gt_files;
 };
 
-RecordedInput recordedInputFrom(const mm::cli::Args& args) {
+RecordedInput recordedInputFrom(const Options& o) {
   RecordedInput in;
-  if (args.has("frames")) {
-    if (!args.has("vod-root")) throw mm::cli::UsageError("--frames needs --vod-root");
-    const std::string range = args.str("frames");
-    const std::size_t dash = range.find('-');
-    if (dash == std::string::npos) throw mm::cli::UsageError("--frames must look like A-B");
-    const int a = mm::io::parseFrameNumber(range.substr(0, dash));
-    const int b = mm::io::parseFrameNumber(range.substr(dash + 1));
-    if (b < a) throw mm::cli::UsageError("--frames A-B needs A <= B");
-    for (int f = a; f <= b; ++f) {
-      const mm::io::VodFrame frame{args.str("vod-root"), f};
+  if (mm::cli::framesGiven(o.frames)) {
+    if (o.vod_root.empty()) throw mm::cli::UsageError("--frames needs --vod-root");
+    for (int f : mm::cli::selectedFrames(o.frames)) {
+      const mm::io::VodFrame frame{o.vod_root, f};
       in.pose_files.push_back(frame.pose());
       in.gt_files.push_back(frame.image());
     }
@@ -139,9 +181,9 @@ RecordedInput recordedInputFrom(const mm::cli::Args& args) {
       }
     }
   } else {
-    in.pose_files = args.list("poses");
+    in.pose_files = o.poses;
   }
-  if (args.has("gt")) in.gt_files = args.list("gt");
+  if (!o.gt.empty()) in.gt_files = o.gt;
   return in;
 }
 
@@ -167,68 +209,63 @@ double finiteMean(const std::vector<FrameMetrics>& rows, double FrameMetrics::*f
 }
 
 std::string metricsJson(const std::vector<FrameMetrics>& rows, const std::string& splat) {
-  std::ostringstream out;
-  auto mean = [&](double FrameMetrics::*field, bool skip_first) {
-    return finiteMean(rows, field, skip_first);
-  };
-  out << "{\n  \"protocol\": \"REFERENCE.md section 5: GT resized to the render size (bilinear), "
-         "uint8 RGB; psnr/ssim on the preview (hole-filled, unlabelled) frames; covered_psnr and "
-         "coverage on the raw conditioning frames; means skip non-finite values (null here = +inf: "
-         "an exactly reproduced frame)\",\n  \"splat\": \""
-      << splat << "\",\n  \"frames\": [\n";
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const FrameMetrics& r = rows[i];
-    out << "    {\"frame\": " << r.frame << ", \"gt\": \"" << mm::cli::jsonEscape(r.gt)
-        << "\", \"psnr\": " << jsonNumber(r.psnr) << ", \"ssim\": " << jsonNumber(r.ssim)
-        << ", \"covered_psnr\": " << jsonNumber(r.covered_psnr)
-        << ", \"coverage\": " << jsonNumber(r.coverage) << "}" << (i + 1 < rows.size() ? "," : "")
-        << "\n";
+  mm::cli::Json frames = mm::cli::Json::array();
+  for (const FrameMetrics& r : rows) {
+    frames.push_back({{"frame", r.frame},
+                      {"gt", r.gt},
+                      {"psnr", mm::cli::number(r.psnr)},
+                      {"ssim", mm::cli::number(r.ssim)},
+                      {"covered_psnr", mm::cli::number(r.covered_psnr)},
+                      {"coverage", mm::cli::number(r.coverage)}});
   }
-  out << "  ],\n";
+  mm::cli::Json out = {
+      {"protocol",
+       "REFERENCE.md section 5: GT resized to the render size (bilinear), uint8 RGB; psnr/ssim on "
+       "the preview (hole-filled, unlabelled) frames; covered_psnr and coverage on the raw "
+       "conditioning frames; means skip non-finite values (null here = +inf: an exactly "
+       "reproduced frame)"},
+      {"splat", splat},
+      {"frames", frames}};
   for (int skip = 0; skip < 2; ++skip) {
-    out << "  \"" << (skip ? "mean_without_reference" : "mean")
-        << "\": {\"psnr\": " << jsonNumber(mean(&FrameMetrics::psnr, skip))
-        << ", \"ssim\": " << jsonNumber(mean(&FrameMetrics::ssim, skip))
-        << ", \"covered_psnr\": " << jsonNumber(mean(&FrameMetrics::covered_psnr, skip))
-        << ", \"coverage\": " << jsonNumber(mean(&FrameMetrics::coverage, skip)) << "}"
-        << (skip ? "\n" : ",\n");
+    auto mean = [&](double FrameMetrics::*field) {
+      return mm::cli::number(finiteMean(rows, field, skip != 0));
+    };
+    out[skip ? "mean_without_reference" : "mean"] = {
+        {"psnr", mean(&FrameMetrics::psnr)},
+        {"ssim", mean(&FrameMetrics::ssim)},
+        {"covered_psnr", mean(&FrameMetrics::covered_psnr)},
+        {"coverage", mean(&FrameMetrics::coverage)}};
   }
-  out << "}\n";
-  return out.str();
+  return mm::cli::document(out);
 }
 
 std::string camerasJson(const mm::Trajectory& traj, const std::string& source) {
-  std::ostringstream out;
-  out << std::setprecision(12);
-  out << "{\n  \"convention\": \"w2c maps the reference camera frame (OpenCV axes) to each target "
-         "camera; K is at the render size\",\n  \"source\": \""
-      << mm::cli::jsonEscape(source) << "\",\n  \"size\": [" << traj.size.height << ", "
-      << traj.size.width << "],\n  \"recorded_frames\": [";
-  for (std::size_t i = 0; i < traj.recorded_frames.size(); ++i) {
-    out << (i ? ", " : "") << traj.recorded_frames[i];
-  }
-  out << "],\n  \"frames\": [\n";
+  auto number = [](double v) { return mm::cli::number(v, 12); };
+  mm::cli::Json frames = mm::cli::Json::array();
   for (std::size_t i = 0; i < traj.cameras.size(); ++i) {
     const mm::TargetCamera& cam = traj.cameras[i];
-    out << "    {\"index\": " << i << ", \"w2c\": [";
+    mm::cli::Json w2c = mm::cli::Json::array();
     for (int r = 0; r < 4; ++r) {
-      out << (r ? ", " : "") << "[";
+      mm::cli::Json row = mm::cli::Json::array();
       for (int c = 0; c < 4; ++c)
-        out << (c ? ", " : "") << cam.world_to_camera(r, c);
-      out << "]";
+        row.push_back(number(cam.world_to_camera(r, c)));
+      w2c.push_back(row);
     }
     const mm::PinholeIntrinsics& k = cam.intrinsics;
-    out << "], \"K\": [[" << k.fx << ", 0, " << k.cx << "], [0, " << k.fy << ", " << k.cy
-        << "], [0, 0, 1]]}" << (i + 1 < traj.cameras.size() ? "," : "") << "\n";
+    frames.push_back(
+        {{"index", i},
+         {"w2c", w2c},
+         {"K", {{number(k.fx), 0, number(k.cx)}, {0, number(k.fy), number(k.cy)}, {0, 0, 1}}}});
   }
-  out << "  ]\n}\n";
-  return out.str();
-}
-
-void writeText(const std::string& path, const std::string& text) {
-  std::ofstream out(path);
-  out << text;
-  if (!out) throw mm::InputError(path + ": cannot write");
+  const mm::cli::Json out = {
+      {"convention",
+       "w2c maps the reference camera frame (OpenCV axes) to each target camera; K is at the "
+       "render size"},
+      {"source", source},
+      {"size", {traj.size.height, traj.size.width}},
+      {"recorded_frames", traj.recorded_frames},
+      {"frames", frames}};
+  return mm::cli::document(out);
 }
 
 void writePng(const std::string& path, const cv::Mat& image) {
@@ -261,62 +298,58 @@ cv::VideoWriter openPreviewVideo(const std::string& output, double fps, cv::Size
 }
 
 int run(int argc, char** argv) {
-  mm::cli::Args args("render_conditioning",
-                     "Renders the kept depth + image into a camera trajectory: conditioning frames "
-                     "with hole masks, a classical preview, GEN3C's input arrays and NVS metrics.");
-  declareOptions(args);
-  if (!args.parse(argc, argv)) return 0;
-  for (const char* required : {"image", "depth", "output"}) {
-    if (!args.has(required))
-      throw mm::cli::UsageError(std::string("--") + required + " is required");
-  }
-  const int trajectory_sources = int(args.has("frames") || args.has("vod-root")) +
-                                 int(args.has("poses")) + int(args.has("preset"));
+  CLI::App app(
+      "Renders the kept depth + image into a camera trajectory: conditioning frames with "
+      "hole masks, a classical preview, GEN3C's input arrays and NVS metrics.",
+      "render_conditioning");
+  mm::cli::setUp(app,
+                 "render_conditioning --image data/vod/lidar/training/image_2/08350.jpg --depth "
+                 "out/08350_depth.npy --valid out/08350_valid.npy --calib "
+                 "data/vod/radar/training/calib/08350.txt --vod-root data/vod --frames 8350-8365 "
+                 "--output out/render");
+  Options o;
+  declareOptions(app, o);
+  if (!mm::cli::parse(app, argc, argv)) return 0;
+  const int trajectory_sources = int(mm::cli::framesGiven(o.frames) || !o.vod_root.empty()) +
+                                 int(!o.poses.empty()) + int(!o.preset.empty());
   if (trajectory_sources != 1) {
     throw mm::cli::UsageError(
         "give exactly one trajectory: --vod-root DIR --frames A-B, "
         "--poses FILES..., or --preset NAME --magnitude X");
   }
-  if (args.has("preset") != args.has("magnitude")) {
+  if (o.preset.empty() == mm::cli::given(app, "--magnitude")) {
     throw mm::cli::UsageError("--preset and --magnitude go together");
   }
-  if (args.has("calib") == args.has("intrinsics")) {
+  if (mm::cli::framesGiven(o.frames)) mm::cli::selectedFrames(o.frames);  // usage errors first
+  if (o.calib.empty() == o.intrinsics.empty()) {
     throw mm::cli::UsageError("give exactly one of --calib FILE or --intrinsics fx fy cx cy");
   }
 
-  const auto& size_args = args.list("size");
-  const mm::ImageSize render_size{
-      size_args.empty() ? mm::kGen3cHeight : std::atoi(size_args[0].c_str()),
-      size_args.empty() ? mm::kGen3cWidth : std::atoi(size_args[1].c_str())};
-  if (render_size.height <= 0 || render_size.width <= 0) {
-    throw mm::cli::UsageError("--size H W must be positive");
-  }
-  const int num_frames = args.integer("num-frames", mm::kGen3cFrames);
-  if (num_frames < 1) throw mm::cli::UsageError("--num-frames must be >= 1");
+  const mm::ImageSize render_size{o.size[0], o.size[1]};
+  const int num_frames = o.num_frames;
   mm::SplatParams splat;
-  splat.mode = mm::parseSplatMode(args.str("splat", "gen3c"));
+  splat.mode = mm::parseSplatMode(o.splat);
 
   // Inputs.
-  const std::string image_path = args.str("image"), depth_path = args.str("depth");
+  const std::string &image_path = o.image, &depth_path = o.depth;
   const cv::Mat image = readImage(image_path);
   const cv::Mat depth = readNpyImage(depth_path, "depth");
   cv::Mat valid;
-  if (args.has("valid")) {
-    cv::Mat v = readNpyImage(args.str("valid"), "valid mask");
+  if (!o.valid.empty()) {
+    cv::Mat v = readNpyImage(o.valid, "valid mask");
     if (v.size() != depth.size()) {
-      throw mm::InputError(args.str("valid") + ": valid mask is " + std::to_string(v.rows) + "x" +
+      throw mm::InputError(o.valid + ": valid mask is " + std::to_string(v.rows) + "x" +
                            std::to_string(v.cols) + " but " + depth_path + " is " +
                            std::to_string(depth.rows) + "x" + std::to_string(depth.cols));
     }
     valid = v != 0.0f;
   }
   mm::PinholeIntrinsics k_image;
-  if (args.has("calib")) {
-    k_image = mm::io::readKittiCalib(args.str("calib")).intrinsics();
+  if (!o.calib.empty()) {
+    k_image = mm::io::readKittiCalib(o.calib).intrinsics();
   } else {
-    const auto& v = args.list("intrinsics");
-    k_image = {std::atof(v[0].c_str()), std::atof(v[1].c_str()), std::atof(v[2].c_str()),
-               std::atof(v[3].c_str())};
+    const std::vector<double>& v = o.intrinsics;
+    k_image = {v[0], v[1], v[2], v[3]};
     k_image.validate("--intrinsics");
   }
   const mm::StrideGrid grid = depthGrid(image, depth, depth_path);
@@ -324,13 +357,12 @@ int run(int argc, char** argv) {
   const mm::PinholeIntrinsics k_grid = grid.gridIntrinsics(k_image);
 
   mm::BackprojectionParams prep;
-  const std::optional<mm::DepthResize> resize =
-      mm::parseDepthResize(args.str("resize-depth", "auto"));
+  const std::optional<mm::DepthResize> resize = mm::parseDepthResize(o.resize_depth);
   if (!resize) throw mm::cli::UsageError("--resize-depth must be auto, yes or no");
   prep.resize_to_render = mm::resizesDepthToRender(*resize, splat.mode);
   prep.render_size = render_size;
-  prep.max_depth = static_cast<float>(args.number("max-depth", 100.0));
-  prep.edge_threshold = static_cast<float>(args.number("edge-threshold", 0.05));
+  prep.max_depth = static_cast<float>(o.max_depth);
+  prep.edge_threshold = static_cast<float>(o.edge_threshold);
   const auto t_cloud = std::chrono::steady_clock::now();
   const mm::ColoredCloud cloud = mm::buildColoredCloud(depth, valid, grid_image, k_grid, prep);
   const double cloud_ms = mm::millisecondsSince(t_cloud);
@@ -341,17 +373,17 @@ int run(int argc, char** argv) {
   mm::Trajectory trajectory;
   std::string source;
   RecordedInput recorded;
-  if (args.has("preset")) {
-    const mm::TrajectoryPreset preset = mm::parseTrajectoryPreset(args.str("preset"));
-    const double magnitude = args.number("magnitude", 0.0);
+  if (!o.preset.empty()) {
+    const mm::TrajectoryPreset preset = mm::parseTrajectoryPreset(o.preset);
+    const double magnitude = o.magnitude;
     trajectory = mm::presetTrajectory(preset, magnitude, num_frames, k_target, render_size,
                                       cloud.medianDepth());
-    source = "preset " + mm::toString(preset) + " " + jsonNumber(magnitude) + " " +
+    source = "preset " + mm::toString(preset) + " " + mm::cli::number(magnitude).dump() + " " +
              mm::magnitudeUnit(preset);
-    if (args.has("gt")) throw mm::cli::UsageError("--gt needs a recorded trajectory, not a preset");
+    if (!o.gt.empty()) throw mm::cli::UsageError("--gt needs a recorded trajectory, not a preset");
   } else {
-    recorded = recordedInputFrom(args);
-    const std::string key = args.str("pose-key", mm::io::defaultVodPoseKey());
+    recorded = recordedInputFrom(o);
+    const std::string& key = o.pose_key;
     std::vector<Eigen::Matrix4d> poses;
     for (const std::string& file : recorded.pose_files)
       poses.push_back(mm::io::readVodPose(file, key));
@@ -366,16 +398,15 @@ int run(int argc, char** argv) {
   }
 
   // Outputs.
-  const std::string output = args.str("output");
+  const std::string& output = o.output;
   for (const char* sub : {"frames", "masks", "preview"})
     mm::makeDirectories(output + "/" + sub);
-  writeText(output + "/cameras.json", camerasJson(trajectory, source));
+  mm::cli::writeTextFile(output + "/cameras.json", camerasJson(trajectory, source));
   std::string video_path, video_codec;
-  cv::VideoWriter video =
-      openPreviewVideo(output, args.number("fps", 24.0),
-                       cv::Size(render_size.width, render_size.height), video_path, video_codec);
+  cv::VideoWriter video = openPreviewVideo(
+      output, o.fps, cv::Size(render_size.width, render_size.height), video_path, video_codec);
   std::optional<mm::Gen3cBurstExport> gen3c;
-  if (args.has("gen3c")) {
+  if (o.gen3c) {
     if (const auto warning = mm::gen3cSizeWarning(num_frames, render_size)) {
       std::cerr << "render_conditioning: warning: " << *warning << "\n";
     }
@@ -389,7 +420,7 @@ int run(int argc, char** argv) {
     gt_of_frame[static_cast<std::size_t>(trajectory.recorded_frames[j])] = recorded.gt_files[j];
   }
 
-  mm::PointSplatter splatter(args.integer("threads", 0));
+  mm::PointSplatter splatter(o.threads);
   mm::ThreadPool io_pool(splatter.threads());
   std::vector<FrameMetrics> metrics;
   double min_coverage = 1.0;
@@ -436,35 +467,39 @@ int run(int argc, char** argv) {
   video.release();
   if (gen3c) gen3c->finish();
   if (!metrics.empty())
-    writeText(output + "/metrics.json", metricsJson(metrics, mm::toString(splat.mode)));
+    mm::cli::writeTextFile(output + "/metrics.json",
+                           metricsJson(metrics, mm::toString(splat.mode)));
   const double total_ms = mm::millisecondsSince(t_all);
 
   const double mean_psnr = finiteMean(metrics, &FrameMetrics::psnr, false);
   const double mean_ssim = finiteMean(metrics, &FrameMetrics::ssim, false);
   const double mean_cov_psnr = finiteMean(metrics, &FrameMetrics::covered_psnr, false);
   const double mean_cov = finiteMean(metrics, &FrameMetrics::coverage, false);
-  std::ostringstream json;
-  json << "{\"frames\": " << num_frames << ", \"size\": [" << render_size.height << ", "
-       << render_size.width << "], \"splat\": \"" << mm::toString(splat.mode)
-       << "\", \"trajectory\": \"" << mm::cli::jsonEscape(source)
-       << "\", \"points\": " << cloud.size() << ", \"depth_stride\": " << grid.stride
-       << ", \"resized_to_render\": " << (prep.resize_to_render ? "true" : "false")
-       << ", \"threads\": " << splatter.threads() << ", \"cloud_ms\": " << jsonNumber(cloud_ms)
-       << ", \"render_ms\": " << jsonNumber(stats.render_ms)
-       << ", \"total_ms\": " << jsonNumber(total_ms)
-       << ", \"min_coverage\": " << jsonNumber(min_coverage) << ", \"video\": "
-       << (video_path.empty() ? "null" : "\"" + mm::cli::jsonEscape(video_path) + "\"")
-       << ", \"video_codec\": " << (video_codec.empty() ? "null" : "\"" + video_codec + "\"")
-       << ", \"gen3c\": "
-       << (gen3c ? "\"" + mm::cli::jsonEscape(output + "/gen3c") + "\"" : "null");
+  mm::cli::Json json = {
+      {"frames", num_frames},
+      {"size", {render_size.height, render_size.width}},
+      {"splat", mm::toString(splat.mode)},
+      {"trajectory", source},
+      {"points", cloud.size()},
+      {"depth_stride", grid.stride},
+      {"resized_to_render", prep.resize_to_render},
+      {"threads", splatter.threads()},
+      {"cloud_ms", mm::cli::number(cloud_ms)},
+      {"render_ms", mm::cli::number(stats.render_ms)},
+      {"total_ms", mm::cli::number(total_ms)},
+      {"min_coverage", mm::cli::number(min_coverage)},
+      {"video", video_path.empty() ? mm::cli::Json() : mm::cli::Json(video_path)},
+      {"video_codec", video_codec.empty() ? mm::cli::Json() : mm::cli::Json(video_codec)},
+      {"gen3c", gen3c ? mm::cli::Json(output + "/gen3c") : mm::cli::Json()}};
   if (!metrics.empty()) {
-    json << ", \"metrics\": {\"gt_frames\": " << metrics.size()
-         << ", \"psnr\": " << jsonNumber(mean_psnr) << ", \"ssim\": " << jsonNumber(mean_ssim)
-         << ", \"covered_psnr\": " << jsonNumber(mean_cov_psnr)
-         << ", \"coverage\": " << jsonNumber(mean_cov) << "}";
+    json["metrics"] = {{"gt_frames", metrics.size()},
+                       {"psnr", mm::cli::number(mean_psnr)},
+                       {"ssim", mm::cli::number(mean_ssim)},
+                       {"covered_psnr", mm::cli::number(mean_cov_psnr)},
+                       {"coverage", mm::cli::number(mean_cov)}};
   }
-  json << ", \"output\": \"" << mm::cli::jsonEscape(output) << "\"}";
-  std::cout << json.str() << std::endl;
+  json["output"] = output;
+  std::cout << mm::cli::oneLine(json) << std::endl;
   return 0;
 }
 

@@ -39,6 +39,8 @@
 #include <sstream>
 
 #include "common/cli.hpp"
+#include "common/frame_options.hpp"
+#include "common/json_output.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
@@ -52,12 +54,15 @@ namespace fs = std::filesystem;
 namespace {
 
 struct Options {
-  std::string root, output, pose_key, world_frame;
+  std::string root, output, pose_key = mm::io::odometryVodPoseKey(), world_frame;
   std::string camera_frame = "camera", radar_frame = "radar", lidar_frame = "lidar";
-  int first = 0, last = 99999;
+  mm::cli::FrameOptions frames;
+  std::set<int> selected;  // empty: every frame found
   double rate = 10.0, start_time = 1.0;
   bool compressed = false, quiet = false;
   std::string compression = "none";
+
+  bool wanted(int frame) const { return selected.empty() || selected.count(frame) > 0; }
 };
 
 /// Which files exist for each frame number.
@@ -68,32 +73,38 @@ struct FrameFiles {
 };
 const char* const kSensors[2] = {"radar", "lidar"};
 
-void declareOptions(mm::cli::Args& args) {
-  args.option("vod-root", 1, "View-of-Delft layout root (ROOT/lidar/training/..., ROOT/radar/...)");
-  args.option("output", 1, "bag file to write");
-  args.option("frames", 1, "frame range A-B (inclusive), e.g. 8350-8365 (default: all)");
-  args.option("rate", 1, "frames per second of the stamps", "10");
-  args.option("start-time", 1, "stamp of the first frame, seconds", "1");
-  args.option("pose-key", 1, "pose file key published on /tf", "odomToCamera");
-  args.option("world-frame", 1, "parent frame of the camera on /tf (default: odom|map|utm by key)");
-  args.option("camera-frame", 1, "camera frame id", "camera");
-  args.option("radar-frame", 1, "radar frame id", "radar");
-  args.option("lidar-frame", 1, "LiDAR frame id", "lidar");
-  args.option("compression", 1, "bag chunk compression: none|lz4|bz2", "none");
-  args.flag("compressed", "write /camera/image_raw/compressed with the JPEG bytes instead of raw");
-  args.flag("quiet", "no progress bar");
-}
-
-std::pair<int, int> parseRange(const std::string& text) {
-  const auto dash = text.find('-');
-  if (dash == std::string::npos || dash == 0) {
-    const int f = mm::io::parseFrameNumber(text);
-    return {f, f};
-  }
-  const int a = mm::io::parseFrameNumber(text.substr(0, dash));
-  const int b = mm::io::parseFrameNumber(text.substr(dash + 1));
-  if (b < a) throw mm::cli::UsageError("--frames " + text + ": the range is empty (B < A)");
-  return {a, b};
+void declareOptions(CLI::App& app, Options& o) {
+  const char* in = mm::cli::kRequired;
+  app.add_option("--vod-root", o.root,
+                 "View-of-Delft layout root (ROOT/lidar/training/..., ROOT/radar/...)")
+      ->required()
+      ->group(in);
+  app.add_option("--output", o.output, "bag file to write")->required()->group(in);
+  mm::cli::declareFrameOptions(app, o.frames, mm::cli::kInputs,
+                               "frames, e.g. 8350-8365 or 549,1047 (default: all)", false);
+  mm::cli::declarePoseKeyOption(app, o.pose_key, mm::cli::kInputs, "published on /tf");
+  const char* out = mm::cli::kOutput;
+  app.add_option("--rate", o.rate, "frames per second of the stamps")
+      ->check(mm::cli::positive())
+      ->group(out);
+  app.add_option("--start-time", o.start_time,
+                 "stamp of the first frame, seconds, in (0, 4e9] (ROS time 0 means unset)")
+      ->check(mm::cli::positive())
+      ->check(CLI::Range(0.0, 4e9))
+      ->group(out);
+  app.add_option("--world-frame", o.world_frame,
+                 "parent frame of the camera on /tf (default: odom|map|utm by key)")
+      ->group(out);
+  app.add_option("--camera-frame", o.camera_frame, "camera frame id")->group(out);
+  app.add_option("--radar-frame", o.radar_frame, "radar frame id")->group(out);
+  app.add_option("--lidar-frame", o.lidar_frame, "LiDAR frame id")->group(out);
+  app.add_option("--compression", o.compression, "bag chunk compression: none|lz4|bz2")
+      ->check(CLI::IsMember({"none", "lz4", "bz2"}))
+      ->group(out);
+  app.add_flag("--compressed", o.compressed,
+               "write /camera/image_raw/compressed with the JPEG bytes instead of raw")
+      ->group(out);
+  app.add_flag("--quiet", o.quiet, "no progress bar")->group(mm::cli::kOptions);
 }
 
 std::string defaultWorldFrame(const std::string& key) {
@@ -105,31 +116,12 @@ std::string defaultWorldFrame(const std::string& key) {
   return lower.empty() ? "world" : lower;
 }
 
-Options parseOptions(const mm::cli::Args& args) {
-  Options o;
-  if (!args.has("vod-root")) throw mm::cli::UsageError("--vod-root DIR is required");
-  if (!args.has("output")) throw mm::cli::UsageError("--output BAG is required");
-  o.root = args.str("vod-root");
-  o.output = args.str("output");
-  if (args.has("frames")) std::tie(o.first, o.last) = parseRange(args.str("frames"));
-  o.rate = args.number("rate", o.rate);
-  if (!(o.rate > 0.0) || !std::isfinite(o.rate)) throw mm::cli::UsageError("--rate must be > 0");
-  o.start_time = args.number("start-time", o.start_time);
-  if (!(o.start_time > 0.0) || o.start_time > 4e9) {
-    throw mm::cli::UsageError("--start-time must be in (0, 4e9] seconds (ROS time 0 means unset)");
+void finishOptions(Options& o) {
+  if (o.world_frame.empty()) o.world_frame = defaultWorldFrame(o.pose_key);
+  if (mm::cli::framesGiven(o.frames)) {
+    const std::vector<int> frames = mm::cli::selectedFrames(o.frames);
+    o.selected.insert(frames.begin(), frames.end());
   }
-  o.pose_key = args.str("pose-key", "odomToCamera");
-  o.world_frame = args.has("world-frame") ? args.str("world-frame") : defaultWorldFrame(o.pose_key);
-  o.camera_frame = args.str("camera-frame", o.camera_frame);
-  o.radar_frame = args.str("radar-frame", o.radar_frame);
-  o.lidar_frame = args.str("lidar-frame", o.lidar_frame);
-  o.compression = args.str("compression", o.compression);
-  if (o.compression != "none" && o.compression != "lz4" && o.compression != "bz2") {
-    throw mm::cli::UsageError("--compression must be none, lz4 or bz2");
-  }
-  o.compressed = args.has("compressed");
-  o.quiet = args.has("quiet");
-  return o;
 }
 
 /// Frame numbers of the NNNNN.ext files in `dir` (other names are ignored).
@@ -154,7 +146,7 @@ std::map<int, FrameFiles> discoverFrames(const Options& o) {
   std::map<int, FrameFiles> frames;
   auto mark = [&](const std::string& dir, const std::string& ext, auto setter) {
     for (int f : framesIn(o.root + dir, ext)) {
-      if (f >= o.first && f <= o.last) setter(frames[f]);
+      if (o.wanted(f)) setter(frames[f]);
     }
   };
   mark("/lidar/training/image_2", ".jpg", [](FrameFiles& f) { f.image = true; });
@@ -167,7 +159,7 @@ std::map<int, FrameFiles> discoverFrames(const Options& o) {
   if (frames.empty()) {
     std::ostringstream msg;
     msg << o.root << ": no View-of-Delft frame";
-    if (o.first > 0 || o.last < 99999) msg << " in " << o.first << "-" << o.last;
+    if (!o.selected.empty()) msg << " among the " << o.selected.size() << " selected by --frames";
     msg << " (expected lidar/training/image_2/NNNNN.jpg, lidar/training/pose/NNNNN.json or "
            "{radar,lidar}/training/velodyne/NNNNN.bin)";
     throw mm::InputError(msg.str());
@@ -177,7 +169,7 @@ std::map<int, FrameFiles> discoverFrames(const Options& o) {
 
 std::string readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw mm::InputError(path + ": cannot open");
+  if (!in) throw mm::InputError(path + ": cannot open (" + std::strerror(errno) + ")");
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
@@ -286,12 +278,15 @@ void progressBar(int done, int total) {
 }
 
 int run(int argc, char** argv) {
-  mm::cli::Args args("vod_to_bag",
-                     "Converts a View-of-Delft layout directory into a ROS bag (camera, "
-                     "camera_info, radar and LiDAR clouds, /tf_static extrinsics, /tf poses).");
-  declareOptions(args);
-  if (!args.parse(argc, argv)) return 0;
-  const Options o = parseOptions(args);
+  CLI::App app(
+      "Converts a View-of-Delft layout directory into a ROS bag (camera, camera_info, "
+      "radar and LiDAR clouds, /tf_static extrinsics, /tf poses).",
+      "vod_to_bag");
+  mm::cli::setUp(app, "vod_to_bag --vod-root data/vod --frames 8350-8365 --output vod.bag");
+  Options o;
+  declareOptions(app, o);
+  if (!mm::cli::parse(app, argc, argv)) return 0;
+  finishOptions(o);
   const std::map<int, FrameFiles> frames = discoverFrames(o);
 
   // Validate everything that spans frames before writing: the intrinsics for camera_info and an
@@ -436,19 +431,18 @@ int run(int argc, char** argv) {
   if (ec) throw mm::InputError(o.output + ": cannot write (" + ec.message() + ")");
   cleanup.done = true;
 
-  std::ostringstream json;
-  json << "{\"bag\": \"" << mm::cli::jsonEscape(o.output) << "\", \"frames\": " << total
-       << ", \"first_frame\": " << frames.begin()->first
-       << ", \"last_frame\": " << frames.rbegin()->first << ", \"start_time\": " << o.start_time
-       << ", \"rate\": " << o.rate << ", \"world_frame\": \"" << mm::cli::jsonEscape(o.world_frame)
-       << "\", \"messages\": {";
-  bool first = true;
-  for (const auto& [topic, count] : bag.counts()) {
-    json << (first ? "" : ", ") << "\"" << topic << "\": " << count;
-    first = false;
-  }
-  json << "}}";
-  std::cout << json.str() << std::endl;
+  mm::cli::Json messages = mm::cli::Json::object();
+  for (const auto& [topic, count] : bag.counts())
+    messages[topic] = count;
+  const mm::cli::Json json = {{"bag", o.output},
+                              {"frames", total},
+                              {"first_frame", frames.begin()->first},
+                              {"last_frame", frames.rbegin()->first},
+                              {"start_time", mm::cli::number(o.start_time, 6)},
+                              {"rate", mm::cli::number(o.rate, 6)},
+                              {"world_frame", o.world_frame},
+                              {"messages", messages}};
+  std::cout << mm::cli::oneLine(json) << std::endl;
   return 0;
 }
 

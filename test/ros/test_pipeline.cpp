@@ -107,7 +107,7 @@ class PipelineTest : public ::testing::Test {
     dir_ = pattern;
     const std::string tools = MMNVS_TOOL_DIR;
     ASSERT_TRUE(run(tools + "/make_synthetic_scene --output " + dir_ + "/scene --scale 0.1" +
-                    " --frames " + std::to_string(kFrames) + " --threads 1 --quiet"));
+                    " --num-frames " + std::to_string(kFrames) + " --threads 1 --quiet"));
     bag_ = dir_ + "/scene.bag";
     ASSERT_TRUE(
         run(tools + "/vod_to_bag --vod-root " + dir_ + "/scene --output " + bag_ + " --quiet"));

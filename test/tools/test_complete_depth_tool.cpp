@@ -74,7 +74,7 @@ TEST(CompleteDepthTool, BadInputGivesAClearMessageAndNoCrash) {
       {points + calib, "--image-size"},
       {points + calib + " --image-size 10 10 --model magic", "unknown depth model"},
       {points + calib + " --image-size 10 10 --stride 0", "stride"},
-      {points + calib + " --image-size 10 10 --bogus", "unknown argument"},
+      {points + calib + " --image-size 10 10 --bogus", "not expected"},
       {points + calib + " --image-size 10 10 --radius-deg abc", "not a number"},
   };
   for (const auto& c : cases) {

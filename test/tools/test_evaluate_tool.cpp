@@ -141,7 +141,7 @@ TEST(EvaluateDepthTool, BadInputGivesAClearMessageAndNoCrash) {
       {base() + "--frames 5-3", "A <= B", 2},
       {base() + "--frames 0 --shard 2/2", "--shard", 2},
       {base() + "--frames 0 --shard x", "--shard", 2},
-      {base() + "--frames 0 --model magic", "unknown depth model", 1},
+      {base() + "--frames 0 --model magic", "unknown depth model", 2},
       {base() + "--frames 0 --input sonar", "--input", 2},
       {base() + "--frames 0 --retain-percent 120", "percentage", 2},
       {base() + "--frames 7", "cannot open", 1},

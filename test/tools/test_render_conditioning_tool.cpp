@@ -264,9 +264,9 @@ TEST_F(RenderConditioningTool, BadInputGivesExitCodeAndAClearMessage) {
        "unknown trajectory preset 'sideways'"},
       {common_ + kIntrinsics + " --preset forward" + out, 2,
        "--preset and --magnitude go together"},
-      {common_ + kIntrinsics + preset + " --size 0 32" + out, 2, "--size H W must be positive"},
+      {common_ + kIntrinsics + preset + " --size 0 32" + out, 2, "--size: must be >= 1"},
       {common_ + kIntrinsics + " --preset forward --magnitude 1 --num-frames 0" + out, 2,
-       "--num-frames must be >= 1"},
+       "--num-frames: must be >= 1"},
       {common_ + kIntrinsics + preset + " --splat fancy" + out, 1, "fancy"},
       {common_ + kIntrinsics + " --poses " + dir() + "pose0.json " + dir() + "pose_bad.json" +
            " --num-frames 2 --size 24 32" + out,

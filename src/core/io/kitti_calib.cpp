@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <sstream>
@@ -46,7 +47,7 @@ KittiCalib parseKittiCalib(const std::string& text, const std::string& source) {
 
 KittiCalib readKittiCalib(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open calibration file");
+  if (!in) throw InputError(path + ": cannot open calibration file (" + std::strerror(errno) + ")");
   std::stringstream ss;
   ss << in.rdbuf();
   return parseKittiCalib(ss.str(), path);

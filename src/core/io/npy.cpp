@@ -134,7 +134,7 @@ NpyArray parseNpy(const std::string& bytes, const std::string& src) {
 
 NpyArray readNpy(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open");
+  if (!in) throw InputError(path + ": cannot open (" + std::strerror(errno) + ")");
   std::stringstream ss;
   ss << in.rdbuf();
   return parseNpy(ss.str(), path);

@@ -14,7 +14,7 @@ namespace {
 
 std::string readAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open point file");
+  if (!in) throw InputError(path + ": cannot open point file (" + std::strerror(errno) + ")");
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();

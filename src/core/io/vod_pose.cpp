@@ -1,9 +1,11 @@
 #include "multimodal_nvs/core/io/vod_pose.hpp"
 
 #include <Eigen/Dense>
+#include <cerrno>
 #include <cmath>
-#include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <utility>
 
@@ -13,203 +15,89 @@ namespace multimodal_nvs {
 namespace io {
 namespace {
 
-/// One entry of a pose file: key and, when the value is an array of numbers, those numbers.
+using Json = nlohmann::ordered_json;
+
+/// One entry of a pose file: key and, when the value is a non-empty array of numbers, those
+/// numbers.
 struct PoseEntry {
   std::string key;
   bool numeric_array = false;
   std::vector<double> numbers;
 };
 
-/// A strict reader for the small JSON subset of pose files: a sequence of objects (JSON lines or
-/// one object) whose values may be any JSON value; arrays of numbers are kept, the rest skipped.
-/// Hand-written because the core depends on Eigen and OpenCV only.
-class PoseJsonReader {
- public:
-  PoseJsonReader(const std::string& text, const std::string& source)
-      : text_(text), source_(source) {}
-
-  std::vector<PoseEntry> readAll() {
-    std::vector<PoseEntry> entries;
-    skipSpace();
-    if (pos_ >= text_.size()) fail("file is empty");
-    while (pos_ < text_.size()) {
-      readObject(entries);
-      skipSpace();
-    }
-    return entries;
-  }
-
- private:
-  [[noreturn]] void fail(const std::string& reason) const {
-    std::size_t line = 1, column = 1;
-    for (std::size_t i = 0; i < pos_ && i < text_.size(); ++i) {
-      if (text_[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    throw InputError(source_ + ":" + std::to_string(line) + ":" + std::to_string(column) +
-                     ": malformed pose JSON: " + reason);
-  }
-
-  void skipSpace() {
-    while (pos_ < text_.size() && (text_[pos_] == ' ' || text_[pos_] == '\t' ||
-                                   text_[pos_] == '\n' || text_[pos_] == '\r')) {
-      ++pos_;
+/// "source:line:column" of byte `offset` of `text`.
+std::string positionOf(const std::string& text, std::size_t offset, const std::string& source) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
     }
   }
+  return source + ":" + std::to_string(line) + ":" + std::to_string(column);
+}
 
-  void expect(char c) {
-    skipSpace();
-    if (pos_ >= text_.size() || text_[pos_] != c) {
-      fail(std::string("expected '") + c + "'" +
-           (pos_ < text_.size() ? std::string(", found '") + text_[pos_] + "'"
-                                : std::string(" before end of file")));
-    }
-    ++pos_;
-  }
+/// nlohmann's message without its "[json.exception...] parse error at line L, column C: " prefix
+/// (the position is re-computed over the whole file, not the one object).
+std::string reasonOf(const nlohmann::json::exception& e) {
+  std::string what = e.what();
+  const std::size_t bracket = what.find("] ");
+  if (bracket != std::string::npos) what.erase(0, bracket + 2);
+  const std::size_t colon = what.find(": ");
+  if (what.rfind("parse error", 0) == 0 && colon != std::string::npos) what.erase(0, colon + 2);
+  return what;
+}
 
-  bool peek(char c) {
-    skipSpace();
-    return pos_ < text_.size() && text_[pos_] == c;
-  }
-
-  std::string readString() {
-    expect('"');
-    std::string out;
-    while (pos_ < text_.size() && text_[pos_] != '"') {
-      if (text_[pos_] == '\\') {
-        ++pos_;
-        if (pos_ >= text_.size()) break;
-      }
-      out += text_[pos_++];
+/// Pose files are a sequence of JSON objects (JSON lines, or one object over many lines), which
+/// nlohmann's stream extraction reads one value at a time. Keys keep file order; a key repeated in
+/// a later object wins, as it does within one object.
+std::vector<PoseEntry> readEntries(const std::string& text, const std::string& source) {
+  std::istringstream in(text);
+  std::vector<PoseEntry> entries;
+  while (true) {
+    in >> std::ws;
+    if (in.peek() == std::char_traits<char>::eof()) break;
+    const std::size_t start = static_cast<std::size_t>(in.tellg());
+    if (in.peek() != '{') {
+      throw InputError(positionOf(text, start, source) +
+                       ": malformed pose JSON: expected an object ('{')");
     }
-    if (pos_ >= text_.size()) fail("unterminated string");
-    ++pos_;
-    return out;
-  }
-
-  double readNumber() {
-    skipSpace();
-    const char* begin = text_.c_str() + pos_;
-    char* end = nullptr;
-    const double v = std::strtod(begin, &end);
-    if (end == begin) fail("expected a number");
-    pos_ += static_cast<std::size_t>(end - begin);
-    return v;
-  }
-
-  bool startsNumber() {
-    skipSpace();
-    if (pos_ >= text_.size()) return false;
-    const char c = text_[pos_];
-    return c == '-' || c == '+' || (c >= '0' && c <= '9') || c == 'N' || c == 'I' || c == 'n' ||
-           c == 'i';
-  }
-
-  void readLiteral() {
-    skipSpace();
-    for (const char* word : {"true", "false", "null"}) {
-      if (text_.compare(pos_, std::char_traits<char>::length(word), word) == 0) {
-        pos_ += std::char_traits<char>::length(word);
-        return;
-      }
+    Json object;
+    try {
+      in >> object;
+    } catch (const nlohmann::json::parse_error& e) {
+      const std::size_t at = start + (e.byte > 0 ? e.byte - 1 : 0);
+      throw InputError(positionOf(text, at, source) + ": malformed pose JSON: " + reasonOf(e));
+    } catch (const nlohmann::json::exception& e) {
+      // E.g. out_of_range for a number beyond double ("1e999"); it has no position of its own.
+      throw InputError(positionOf(text, start, source) + ": malformed pose JSON: " + reasonOf(e));
     }
-    fail("unexpected character");
-  }
-
-  /// Reads any value; when it is an array of numbers only, returns them through `numbers`.
-  bool readValue(std::vector<double>* numbers) {
-    skipSpace();
-    if (pos_ >= text_.size()) fail("value missing before end of file");
-    const char c = text_[pos_];
-    if (c == '{') {
-      std::vector<PoseEntry> ignored;
-      readObject(ignored);
-      return false;
-    }
-    if (c == '"') {
-      readString();
-      return false;
-    }
-    if (c == '[') {
-      const NestingGuard guard(*this);
-      ++pos_;
-      bool all_numbers = true;
-      if (peek(']')) {
-        ++pos_;
-        return false;
-      }
-      while (true) {
-        if (startsNumber() && text_[pos_] != 'n') {
-          const double v = readNumber();
-          if (numbers != nullptr) numbers->push_back(v);
-        } else {
-          readValue(nullptr);
-          all_numbers = false;
-        }
-        if (peek(',')) {
-          ++pos_;
-          continue;
-        }
-        expect(']');
-        return all_numbers;
-      }
-    }
-    if (startsNumber() && c != 'n') {
-      readNumber();
-      return false;
-    }
-    readLiteral();
-    return false;
-  }
-
-  void readObject(std::vector<PoseEntry>& entries) {
-    const NestingGuard guard(*this);
-    expect('{');
-    if (peek('}')) {
-      ++pos_;
-      return;
-    }
-    while (true) {
+    for (const auto& item : object.items()) {
       PoseEntry entry;
-      entry.key = readString();
-      expect(':');
-      entry.numeric_array = readValue(&entry.numbers);
+      entry.key = item.key();
+      const Json& value = item.value();
+      // Metadata may nest deeply; it is only looked at, never copied (copies recurse).
+      entry.numeric_array = value.is_array() && !value.empty();
+      if (entry.numeric_array) {
+        for (const Json& element : value) {
+          if (!element.is_number()) {
+            entry.numeric_array = false;
+            break;
+          }
+          entry.numbers.push_back(element.get<double>());
+        }
+      }
       if (!entry.numeric_array) entry.numbers.clear();
       entries.push_back(std::move(entry));
-      if (peek(',')) {
-        ++pos_;
-        continue;
-      }
-      expect('}');
-      return;
     }
   }
-
-  // Values nest by recursion: without a limit, a file of many '[' overflows the stack instead of
-  // raising InputError. Pose files nest two levels; 64 leaves room for any metadata.
-  static constexpr int kMaxNesting = 64;
-  struct NestingGuard {
-    explicit NestingGuard(PoseJsonReader& reader) : reader_(reader) {
-      if (reader_.nesting_ == kMaxNesting) {
-        reader_.fail("nested deeper than " + std::to_string(kMaxNesting) + " levels");
-      }
-      ++reader_.nesting_;
-    }
-    ~NestingGuard() { --reader_.nesting_; }
-    NestingGuard(const NestingGuard&) = delete;
-    NestingGuard& operator=(const NestingGuard&) = delete;
-    PoseJsonReader& reader_;
-  };
-
-  const std::string& text_;
-  const std::string& source_;
-  std::size_t pos_ = 0;
-  int nesting_ = 0;
-};
+  if (entries.empty() && text.find('{') == std::string::npos) {
+    throw InputError(source + ": malformed pose JSON: file is empty");
+  }
+  return entries;
+}
 
 void checkRigid(const Eigen::Matrix4d& m, const std::string& where) {
   if (std::abs(m(3, 0)) > 1e-9 || std::abs(m(3, 1)) > 1e-9 || std::abs(m(3, 2)) > 1e-9 ||
@@ -231,7 +119,7 @@ void checkRigid(const Eigen::Matrix4d& m, const std::string& where) {
 
 std::vector<std::string> vodPoseKeys(const std::string& text, const std::string& source) {
   std::vector<std::string> keys;
-  for (const PoseEntry& e : PoseJsonReader(text, source).readAll()) {
+  for (const PoseEntry& e : readEntries(text, source)) {
     if (e.numeric_array) keys.push_back(e.key);
   }
   return keys;
@@ -239,7 +127,7 @@ std::vector<std::string> vodPoseKeys(const std::string& text, const std::string&
 
 Eigen::Matrix4d parseVodPose(const std::string& text, const std::string& key,
                              const std::string& source) {
-  const std::vector<PoseEntry> entries = PoseJsonReader(text, source).readAll();
+  const std::vector<PoseEntry> entries = readEntries(text, source);
   const PoseEntry* found = nullptr;
   std::string present;
   for (const PoseEntry& e : entries) {
@@ -269,7 +157,7 @@ Eigen::Matrix4d parseVodPose(const std::string& text, const std::string& key,
 
 Eigen::Matrix4d readVodPose(const std::string& path, const std::string& key) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open pose file");
+  if (!in) throw InputError(path + ": cannot open pose file (" + std::strerror(errno) + ")");
   std::ostringstream text;
   text << in.rdbuf();
   return parseVodPose(text.str(), key, path);

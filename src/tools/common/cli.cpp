@@ -1,7 +1,6 @@
 #include "cli.hpp"
 
 #include <cmath>
-#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -10,91 +9,97 @@
 namespace multimodal_nvs {
 namespace cli {
 
-Args::Args(std::string program, std::string summary)
-    : program_(std::move(program)), summary_(std::move(summary)) {}
-
-void Args::option(const std::string& name, int arity, const std::string& help,
-                  const std::string& fallback) {
-  order_.push_back(name);
-  specs_[name] = {arity, help, fallback};
+void setUp(CLI::App& app, const std::string& example) {
+  app.option_defaults()->always_capture_default();
+  app.get_formatter()->column_width(34);
+  app.footer("Example:\n  " + example);
 }
 
-void Args::flag(const std::string& name, const std::string& help) {
-  option(name, 0, help);
-}
-
-bool Args::parse(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::cout << usage();
-      return false;
+bool parse(CLI::App& app, int argc, char** argv) {
+  // Declared last so that --help sits under the tool's own groups, not above the required inputs.
+  app.set_help_flag();
+  app.set_help_flag("-h,--help", "print this help and exit")->group(kOptions);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return false;
+  } catch (const CLI::ConversionError& e) {
+    // CLI11 says "Could not convert: --threads = 4294967297"; say what is wrong with the value.
+    const std::string what = e.what(), prefix = "Could not convert: ";
+    const std::size_t eq = what.find(" = ");
+    if (what.rfind(prefix, 0) == 0 && eq != std::string::npos) {
+      throw UsageError(what.substr(prefix.size(), eq - prefix.size()) + ": '" +
+                       what.substr(eq + 3) +
+                       "' is not a number of the option's type, or out of its range");
     }
-    const auto it = specs_.find(arg.rfind("--", 0) == 0 ? arg.substr(2) : std::string());
-    if (it == specs_.end()) throw UsageError("unknown argument '" + arg + "'");
-    std::vector<std::string>& v = values_[it->first];
-    v.clear();
-    const int arity = it->second.arity;
-    while (i + 1 < argc && (arity < 0 || static_cast<int>(v.size()) < arity)) {
-      const std::string next = argv[i + 1];
-      if (arity < 0 && next.rfind("--", 0) == 0) break;
-      v.push_back(next);
-      ++i;
-    }
-    if ((arity > 0 && static_cast<int>(v.size()) != arity) || (arity < 0 && v.empty())) {
-      throw UsageError(
-          "--" + it->first + " expects " +
-          (arity < 0 ? std::string("at least one value") : std::to_string(arity) + " value(s)"));
-    }
+    throw UsageError(what);
+  } catch (const CLI::ParseError& e) {
+    throw UsageError(e.what());
   }
   return true;
 }
 
-std::string Args::str(const std::string& name, const std::string& fallback) const {
-  const auto it = values_.find(name);
-  return it == values_.end() || it->second.empty() ? fallback : it->second[0];
+bool given(const CLI::App& app, const std::string& name) {
+  return app.count(name) > 0;
 }
 
-double Args::number(const std::string& name, double fallback) const {
-  if (!has(name)) return fallback;
-  const std::string s = str(name);
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end != '\0' || std::isnan(v)) {
-    throw UsageError("--" + name + ": '" + s + "' is not a number");
-  }
-  return v;
+namespace {
+
+std::string describe(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
 }
 
-int Args::integer(const std::string& name, int fallback) const {
-  if (!has(name)) return fallback;
-  const std::string s = str(name);
-  char* end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end != '\0') throw UsageError("--" + name + ": '" + s + "' is not an integer");
-  return static_cast<int>(v);
+/// The option's text as a double, or NaN when it is not a number.
+double asNumber(const std::string& text) {
+  double v = 0.0;
+  return CLI::detail::lexical_cast(text, v) ? v : std::nan("");
 }
 
-const std::vector<std::string>& Args::list(const std::string& name) const {
-  static const std::vector<std::string> empty;
-  const auto it = values_.find(name);
-  return it == values_.end() ? empty : it->second;
+std::string notANumber(const std::string& text) {
+  return "'" + text + "' is not a number";
 }
 
-std::string Args::usage() const {
-  std::ostringstream out;
-  out << "usage: " << program_ << " [options]\n" << summary_ << "\n\noptions:\n";
-  for (const auto& name : order_) {
-    const Spec& s = specs_.at(name);
-    out << "  --" << name;
-    if (s.arity == 1) out << " X";
-    if (s.arity > 1) out << " X×" << s.arity;
-    if (s.arity < 0) out << " X...";
-    out << "\n      " << s.help;
-    if (!s.fallback.empty()) out << " (default: " << s.fallback << ")";
-    out << "\n";
-  }
-  return out.str();
+}  // namespace
+
+CLI::Validator atLeast(double minimum) {
+  return CLI::Validator(
+      [minimum](std::string& text) {
+        const double v = asNumber(text);
+        if (std::isnan(v)) return notANumber(text);
+        return v >= minimum ? std::string() : "must be >= " + describe(minimum) + ", got " + text;
+      },
+      ">=" + describe(minimum));
+}
+
+CLI::Validator positive() {
+  return CLI::Validator(
+      [](std::string& text) {
+        const double v = asNumber(text);
+        if (std::isnan(v)) return notANumber(text);
+        return v > 0.0 && std::isfinite(v) ? std::string() : "must be > 0, got " + text;
+      },
+      ">0");
+}
+
+CLI::Validator finite() {
+  return CLI::Validator(
+      [](std::string& text) {
+        const double v = asNumber(text);
+        if (std::isnan(v)) return notANumber(text);
+        return std::isfinite(v) ? std::string() : "must be a finite number, got " + text;
+      },
+      "");
+}
+
+void declarePoseKeyOption(CLI::App& app, std::string& key, const std::string& group,
+                          const std::string& used_for) {
+  app.add_option(
+         "--pose-key", key,
+         "which transform of the VoD pose files (odomToCamera|mapToCamera|UTMToCamera) " + used_for)
+      ->group(group);
 }
 
 int runTool(const char* program, int (*body)(int, char**), int argc, char** argv) {
@@ -110,19 +115,6 @@ int runTool(const char* program, int (*body)(int, char**), int argc, char** argv
     std::cerr << program << ": error: " << e.what() << "\n";
     return 1;
   }
-}
-
-std::string jsonEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      out += ' ';
-      continue;
-    }
-    out += c;
-  }
-  return out;
 }
 
 }  // namespace cli

@@ -1,53 +1,52 @@
 #pragma once
-// Minimal command-line parsing shared by the tools: `--name value...` options, `--flag` switches,
-// a generated usage text, and errors that name the option.
-#include <map>
+// The tools' command lines on CLI11 (Debian's libcli11-dev): one place that sets the help layout
+// (required inputs first, defaults shown, an example), the number checks every tool shares, and the
+// mapping of errors to exit codes (2: usage, 1: input).
+#include <CLI/CLI.hpp>
 #include <stdexcept>
 #include <string>
-#include <vector>
 
 namespace multimodal_nvs {
 namespace cli {
 
+/// Bad command line (exit code 2). CLI11's own parse errors are turned into this.
 class UsageError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
 
-class Args {
- public:
-  Args(std::string program, std::string summary);
+/// Option groups of --help, listed in this order when each tool declares its groups in this order.
+constexpr const char* kRequired = "Required inputs";
+constexpr const char* kInputs = "Inputs";
+constexpr const char* kOutput = "Output";
+constexpr const char* kModel = "Depth model";
+constexpr const char* kGround = "ground_gp model";
+constexpr const char* kOptions = "Options";
 
-  /// Declares an option taking `arity` values (-1: one or more). `fallback` is shown in --help.
-  void option(const std::string& name, int arity, const std::string& help,
-              const std::string& fallback = "");
-  void flag(const std::string& name, const std::string& help);
+/// The tools' conventions on `app`: defaults captured from the bound variables and shown, the
+/// example as the footer. Call before declaring options.
+void setUp(CLI::App& app, const std::string& example);
 
-  /// Parses argv; returns false if --help was given (usage already printed).
-  bool parse(int argc, char** argv);
+/// Parses argv. Returns false when --help was given (the help is printed). Any parse error (unknown
+/// option, malformed or out-of-range number, missing value) throws UsageError naming the option.
+bool parse(CLI::App& app, int argc, char** argv);
 
-  bool has(const std::string& name) const { return values_.count(name) > 0; }
-  std::string str(const std::string& name, const std::string& fallback = "") const;
-  double number(const std::string& name, double fallback) const;
-  int integer(const std::string& name, int fallback) const;
-  const std::vector<std::string>& list(const std::string& name) const;
-  std::string usage() const;
+/// Whether the option was given on the command line.
+bool given(const CLI::App& app, const std::string& name);
 
- private:
-  struct Spec {
-    int arity;
-    std::string help, fallback;
-  };
-  std::string program_, summary_;
-  std::vector<std::string> order_;
-  std::map<std::string, Spec> specs_;
-  std::map<std::string, std::vector<std::string>> values_;
-};
+/// Number checks that name the option in their message (CLI11 prefixes it).
+CLI::Validator atLeast(double minimum);
+CLI::Validator positive();
+/// Rejects NaN and +-inf (CLI11 accepts "nan" and "inf" for floating-point options).
+CLI::Validator finite();
+
+/// --pose-key, declared alike in every tool: which transform of a VoD pose file to read. Only the
+/// default differs, by what the pose is used for (`used_for` says it in --help).
+void declarePoseKeyOption(CLI::App& app, std::string& key, const std::string& group,
+                          const std::string& used_for);
 
 /// Runs `body` and maps exceptions to a message on stderr and exit code 2 (usage) or 1 (input).
 int runTool(const char* program, int (*body)(int, char**), int argc, char** argv);
-
-std::string jsonEscape(const std::string& s);
 
 }  // namespace cli
 }  // namespace multimodal_nvs

@@ -76,9 +76,14 @@ TEST(VodPose, RejectsWrongShapeAndNonRigid) {
       errorOf("{\"mapToCamera\": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 1, 1]}", "mapToCamera")
           .find("last row"),
       std::string::npos);
+  // NaN is not JSON; a number too large for a double is not accepted either.
   EXPECT_NE(errorOf("{\"mapToCamera\": [1, 0, 0, NaN, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]}",
                     "mapToCamera")
-                .find("not finite"),
+                .find("malformed"),
+            std::string::npos);
+  EXPECT_NE(errorOf("{\"mapToCamera\": [1, 0, 0, 1e999, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]}",
+                    "mapToCamera")
+                .find("malformed"),
             std::string::npos);
   EXPECT_THROW(mm::io::readVodPose("/nonexistent/pose.json"), mm::InputError);
 }

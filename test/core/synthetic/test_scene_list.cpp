@@ -121,7 +121,7 @@ TEST(SyntheticSceneList, MakeSyntheticSceneAcceptsEveryRow) {
   for (const SceneRow& row : readSceneList(kSceneList)) {
     std::filesystem::remove_all(root);
     const auto r = multimodal_nvs::test::runTool(
-        "make_synthetic_scene", "--output " + root + " --scale 0.05 --frames 1 --quiet " +
+        "make_synthetic_scene", "--output " + root + " --scale 0.05 --num-frames 1 --quiet " +
                                     "--lidar-azimuth-step 2 " + row.args);
     EXPECT_EQ(r.exit_code, 0) << row.name << ": " << row.args << "\n" << r.output;
   }

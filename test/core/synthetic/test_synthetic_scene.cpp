@@ -371,7 +371,7 @@ TEST(SyntheticScene, RadarSeesTheStaticWorldApproachWhileDrivingForward) {
 TEST(SyntheticScene, ToolWritesTheLayoutAndRejectsBadOptions) {
   const std::string root = freshDir("tool");
   const auto ok = runTool("--output " + root +
-                          " --scale 0.05 --frames 2 --first-frame 7 --quiet "
+                          " --scale 0.05 --num-frames 2 --first-frame 7 --quiet "
                           "--lidar-azimuth-step 2");
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   EXPECT_NE(ok.output.find("\"frames\": 2"), std::string::npos) << ok.output;
@@ -383,10 +383,10 @@ TEST(SyntheticScene, ToolWritesTheLayoutAndRejectsBadOptions) {
     int code;
   } cases[] = {
       {"--scale 0.1", "--output", 2},
-      {"--output " + root + " --scale 0", "scale", 1},
-      {"--output " + root + " --frames 0", "frames", 1},
+      {"--output " + root + " --scale 0", "--scale", 2},
+      {"--output " + root + " --num-frames 0", "--num-frames", 2},
       {"--output " + root + " --seed -3", "--seed", 2},
-      {"--output /proc/forbidden --scale 0.05 --frames 1", "/proc/forbidden", 1},
+      {"--output /proc/forbidden --scale 0.05 --num-frames 1", "/proc/forbidden", 1},
   };
   for (const auto& c : cases) {
     const auto r = runTool(c.args);
@@ -525,7 +525,7 @@ TEST(SyntheticScene, OccludersStandWhereTheDriveSeesThemAndLeaveTheRestOfTheStre
 TEST(SyntheticScene, ToolTakesTheSceneVariationsAndRejectsBadOnes) {
   const std::string root = freshDir("tool_variations");
   const auto ok = runTool("--output " + root +
-                          " --scale 0.05 --frames 1 --quiet --lidar-azimuth-step 2 "
+                          " --scale 0.05 --num-frames 1 --quiet --lidar-azimuth-step 2 "
                           "--camera-height 2.2 --camera-pitch -4 --lidar-beams 16 "
                           "--radar-candidates 500 --radar-clutter 0.2 --vehicles 3 "
                           "--pedestrians 5 --poles 4 --speed 10");
@@ -546,7 +546,7 @@ TEST(SyntheticScene, ToolTakesTheSceneVariationsAndRejectsBadOnes) {
       {"--pedestrians -1", "occluders", 1},
   };
   for (const auto& c : cases) {
-    const auto r = runTool("--output " + root + " --scale 0.05 --frames 1 --quiet " + c.args);
+    const auto r = runTool("--output " + root + " --scale 0.05 --num-frames 1 --quiet " + c.args);
     EXPECT_EQ(r.exit_code, c.code) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
   }

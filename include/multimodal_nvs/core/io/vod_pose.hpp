@@ -7,9 +7,17 @@
 namespace multimodal_nvs {
 namespace io {
 
-/// The pose key the reference implementation uses (View-of-Delft's dataset layout).
+/// The pose key the reference implementation uses (View-of-Delft's dataset layout): the default for
+/// camera trajectories, whose relative poses are what matters.
 inline const char* defaultVodPoseKey() {
   return "mapToCamera";
+}
+
+/// The pose key whose world is the road the vehicle drives on (odometry starts on the ground, z up,
+/// and is continuous): the default wherever the absolute height and tilt matter (the ground plane
+/// of ground_gp) or a smooth world frame does (/tf in vod_to_bag).
+inline const char* odometryVodPoseKey() {
+  return "odomToCamera";
 }
 
 /// Parses a View-of-Delft pose file: one JSON object per line, keys such as `odomToCamera`,
