@@ -3,12 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
+#include "common/frame_options.hpp"
 #include "common/json_output.hpp"
+#include "common/progress.hpp"
 #include "multimodal_nvs/core/common/colormap.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
@@ -28,7 +31,8 @@ struct Options {
   std::vector<int> image_size;
   int stride = 1, repeat = 1;
   double retain_percent = 100.0;
-  bool png = false;
+  bool png = false, quiet = false;
+  mm::cli::FrameOptions frames;
 };
 
 void declareOptions(CLI::App& app, Options& o) {
@@ -48,6 +52,10 @@ void declareOptions(CLI::App& app, Options& o) {
                  "of --frame)")
       ->group(in);
   app.add_option("--frame", o.frame, "VoD frame number, with or without leading zeros")->group(in);
+  mm::cli::declareFrameOptions(app, o.frames, in,
+                               "many VoD frames in one process, e.g. 8350-8365 or 549,1047 "
+                               "(--output is then a directory: OUTPUT/NNNNN_depth.npy, ...)",
+                               true);
   app.add_option("--sensor", o.sensor, "radar|lidar")
       ->check(CLI::IsMember({"radar", "lidar"}))
       ->group(mm::cli::kInputs);
@@ -71,6 +79,8 @@ void declareOptions(CLI::App& app, Options& o) {
   app.add_option("--repeat", o.repeat, "repeat the computation N times and report the median")
       ->check(mm::cli::atLeast(1))
       ->group(mm::cli::kOptions);
+  app.add_flag("--quiet", o.quiet, "no progress or throughput on stderr (with --frames)")
+      ->group(mm::cli::kOptions);
 }
 
 mm::DepthCompletionParams paramsFrom(const Options& o) {
@@ -90,104 +100,188 @@ void writePng(const std::string& path, const std::vector<float>& values,
   }
 }
 
-int run(int argc, char** argv) {
-  CLI::App app(
-      "Dense depth and variance from a sparse radar or LiDAR scan (localized GP in the "
-      "azimuth/elevation domain).",
-      "complete_depth");
-  mm::cli::setUp(app, "complete_depth --vod-root data/vod --frame 8350 --output out/08350 --png");
-  Options o;
-  declareOptions(app, o);
-  if (!mm::cli::parse(app, argc, argv)) return 0;
+/// One frame's inputs and where its outputs go.
+struct FrameJob {
+  int number = -1;  // -1: files given directly
+  std::string points, calib, image, pose, format, prefix;
+};
 
-  std::string points_path = o.points, calib_path = o.calib, image_path = o.image;
-  const std::string& sensor = o.sensor;
-  std::string frame_pose;
-  if (!o.vod_root.empty()) {
-    if (o.frame.empty()) throw mm::cli::UsageError("--vod-root needs --frame");
-    const mm::io::VodFrame frame{o.vod_root, mm::io::parseFrameNumber(o.frame)};
-    if (points_path.empty()) points_path = frame.points(sensor);
-    if (calib_path.empty()) calib_path = frame.calib(sensor);
-    if (image_path.empty() && o.image_size.empty() && mm::io::fileExists(frame.image())) {
-      image_path = frame.image();
+bool isPcd(const std::string& path) {
+  return path.size() > 4 && path.substr(path.size() - 4) == ".pcd";
+}
+
+FrameJob vodJob(const Options& o, int number, const std::string& prefix) {
+  const mm::io::VodFrame frame{o.vod_root, number};
+  FrameJob job;
+  job.number = number;
+  job.points = o.points.empty() ? frame.points(o.sensor) : o.points;
+  job.calib = o.calib.empty() ? frame.calib(o.sensor) : o.calib;
+  job.image = o.image;
+  if (job.image.empty() && o.image_size.empty() && mm::io::fileExists(frame.image())) {
+    job.image = frame.image();
+  }
+  job.pose = frame.pose();
+  job.prefix = prefix;
+  return job;
+}
+
+/// One job for --points/--calib or --vod-root --frame (outputs PREFIX_*), one per frame for
+/// --vod-root --frames (outputs OUTPUT/NNNNN_*).
+std::vector<FrameJob> jobsFrom(const Options& o) {
+  std::vector<FrameJob> jobs;
+  const bool many = mm::cli::framesGiven(o.frames);
+  if (many) {
+    if (o.vod_root.empty()) throw mm::cli::UsageError("--frames needs --vod-root");
+    if (!o.frame.empty()) throw mm::cli::UsageError("give --frame or --frames, not both");
+    if (!o.points.empty() || !o.calib.empty() || !o.image.empty()) {
+      throw mm::cli::UsageError(
+          "--frames takes every input from --vod-root; --points, --calib and --image name one "
+          "frame's files");
     }
-    frame_pose = frame.pose();
+    std::error_code ec;
+    if (!o.output.empty() && !std::filesystem::create_directories(o.output, ec) && ec) {
+      throw mm::InputError(o.output + ": cannot create the output directory (" + ec.message() +
+                           ")");
+    }
+    for (int number : mm::cli::selectedFrames(o.frames)) {
+      const std::string id = mm::io::VodFrame{o.vod_root, number}.id();
+      jobs.push_back(vodJob(o, number, o.output.empty() ? "" : o.output + "/" + id));
+    }
+  } else if (!o.vod_root.empty()) {
+    if (o.frame.empty()) throw mm::cli::UsageError("--vod-root needs --frame or --frames");
+    jobs.push_back(vodJob(o, mm::io::parseFrameNumber(o.frame), o.output));
+  } else {
+    FrameJob job;
+    job.points = o.points;
+    job.calib = o.calib;
+    job.image = o.image;
+    job.prefix = o.output;
+    jobs.push_back(job);
   }
-  if (points_path.empty() || calib_path.empty()) {
-    throw mm::cli::UsageError("give --points and --calib, or --vod-root and --frame");
+  for (FrameJob& job : jobs) {
+    if (job.points.empty() || job.calib.empty()) {
+      throw mm::cli::UsageError("give --points and --calib, or --vod-root and --frame(s)");
+    }
+    if (job.image.empty() && o.image_size.empty()) {
+      if (job.number >= 0) {
+        throw mm::InputError(mm::io::VodFrame{o.vod_root, job.number}.image() +
+                             ": image not found (give --image-size H W)");
+      }
+      throw mm::cli::UsageError("give --image-size H W or --image FILE");
+    }
+    job.format = !o.format.empty() ? o.format : isPcd(job.points) ? "pcd" : o.sensor;
   }
-  std::string format = o.format;
-  if (format.empty()) {
-    const bool pcd = points_path.size() > 4 && points_path.substr(points_path.size() - 4) == ".pcd";
-    format = pcd ? "pcd" : sensor;
-  }
+  return jobs;
+}
 
+mm::StrideGrid gridOf(const Options& o, const FrameJob& job) {
   mm::StrideGrid grid;
   grid.stride = o.stride;
   if (!o.image_size.empty()) {
     grid.image = {o.image_size[0], o.image_size[1]};
-  } else if (!image_path.empty()) {
-    const cv::Mat image = cv::imread(image_path, cv::IMREAD_UNCHANGED);
-    if (image.empty()) throw mm::InputError(image_path + ": cannot read or decode image");
-    grid.image = {image.rows, image.cols};
   } else {
-    throw mm::cli::UsageError("give --image-size H W or --image FILE");
+    const cv::Mat image = cv::imread(job.image, cv::IMREAD_UNCHANGED);
+    if (image.empty()) throw mm::InputError(job.image + ": cannot read or decode image");
+    grid.image = {image.rows, image.cols};
   }
+  return grid;
+}
 
+void writeOutputs(const Options& o, const std::string& prefix, const mm::DepthMap& result,
+                  const mm::StrideGrid& grid) {
+  const std::vector<std::size_t> shape{std::size_t(grid.rows()), std::size_t(grid.cols())};
+  mm::io::writeNpy(prefix + "_depth.npy", result.depth.data(), shape);
+  mm::io::writeNpy(prefix + "_variance.npy", result.variance.data(), shape);
+  mm::io::writeNpy(prefix + "_valid.npy", result.valid.data(), shape);
+  if (o.png) {
+    writePng(prefix + "_depth.png", result.depth, result.valid, grid, "depth [m]");
+    writePng(prefix + "_variance.png", result.variance, result.valid, grid, "variance [m^2]");
+  }
+}
+
+/// Runs one frame (`repeat` times) with the shared completer and prints its JSON line. Returns the
+/// compute time of the first run.
+double completeFrame(const Options& o, const FrameJob& job, bool name_frame,
+                     mm::DepthCompleter& completer, mm::DepthMap& result) {
+  const mm::StrideGrid grid = gridOf(o, job);
   mm::DepthCompletionParams params = paramsFrom(o);
-  mm::cli::applyGroundPose(o.depth, frame_pose, params);
-  const mm::io::KittiCalib calib = mm::io::readKittiCalib(calib_path);
+  mm::cli::applyGroundPose(o.depth, job.pose, params);
+  const mm::io::KittiCalib calib = mm::io::readKittiCalib(job.calib);
   const mm::PinholeIntrinsics intrinsics = calib.intrinsics();
-  const mm::SensorToCamera extrinsic = calib.sensorToCamera();
-  const auto points_sensor = mm::io::readPoints(points_path, mm::io::parsePointFormat(format));
-  const auto points_camera = mm::transformToCamera(points_sensor, extrinsic);
+  const auto points_sensor = mm::io::readPoints(job.points, mm::io::parsePointFormat(job.format));
+  const auto points_camera = mm::transformToCamera(points_sensor, calib.sensorToCamera());
 
-  mm::DepthCompleter completer(params.threads);
-  const int repeat = o.repeat;
   std::vector<double> times;
-  mm::DepthMap result;
-  for (int i = 0; i < repeat; ++i) {
+  for (int i = 0; i < o.repeat; ++i) {
     completer.complete(points_camera, intrinsics, grid, params, result);
     times.push_back(result.stats.compute_ms);
   }
   const auto& s = result.stats;
   if (s.points_total == s.points_non_finite) {
-    std::cerr << "complete_depth: warning: " << points_path
+    std::cerr << "complete_depth: warning: " << job.points
               << " has no usable point; the output is the prior everywhere\n";
   }
+  if (!job.prefix.empty()) writeOutputs(o, job.prefix, result, grid);
 
-  if (!o.output.empty()) {
-    const std::string& prefix = o.output;
-    const std::vector<std::size_t> shape{std::size_t(grid.rows()), std::size_t(grid.cols())};
-    mm::io::writeNpy(prefix + "_depth.npy", result.depth.data(), shape);
-    mm::io::writeNpy(prefix + "_variance.npy", result.variance.data(), shape);
-    mm::io::writeNpy(prefix + "_valid.npy", result.valid.data(), shape);
-    if (o.png) {
-      writePng(prefix + "_depth.png", result.depth, result.valid, grid, "depth [m]");
-      writePng(prefix + "_variance.png", result.variance, result.valid, grid, "variance [m^2]");
-    }
-  }
-
-  mm::cli::Json json = {{"model", mm::toString(params.model)},
-                        {"rows", grid.rows()},
-                        {"cols", grid.cols()},
-                        {"pixels", s.pixels},
-                        {"predicted", s.predicted},
-                        {"kept", s.kept},
-                        {"points_total", s.points_total},
-                        {"points_non_finite", s.points_non_finite},
-                        {"points_in_view", s.points_in_view},
-                        {"neighbour_sets", s.neighbour_sets},
-                        {"shift", mm::cli::number(s.shift, 6)},
-                        {"threads", completer.threads()},
-                        {"compute_ms", mm::cli::number(times.front(), 6)}};
-  if (repeat > 1) {
+  mm::cli::Json json = mm::cli::Json::object();
+  if (name_frame) json["frame"] = job.number;
+  json["model"] = mm::toString(params.model);
+  json["rows"] = grid.rows();
+  json["cols"] = grid.cols();
+  json["pixels"] = s.pixels;
+  json["predicted"] = s.predicted;
+  json["kept"] = s.kept;
+  json["points_total"] = s.points_total;
+  json["points_non_finite"] = s.points_non_finite;
+  json["points_in_view"] = s.points_in_view;
+  json["neighbour_sets"] = s.neighbour_sets;
+  json["shift"] = mm::cli::number(s.shift, 6);
+  json["threads"] = completer.threads();
+  json["compute_ms"] = mm::cli::number(times.front(), 6);
+  if (o.repeat > 1) {
     std::sort(times.begin(), times.end());
-    json["repeat"] = repeat;
+    json["repeat"] = o.repeat;
     json["median_ms"] = mm::cli::number(times[times.size() / 2], 6);
     json["min_ms"] = mm::cli::number(times.front(), 6);
   }
   std::cout << mm::cli::oneLine(json) << std::endl;
+  return times.front();
+}
+
+int run(int argc, char** argv) {
+  CLI::App app(
+      "Dense depth and variance from a sparse radar or LiDAR scan (localized GP in the "
+      "azimuth/elevation domain). One frame, or a list of VoD frames in one process (one JSON line "
+      "and one output set per frame).",
+      "complete_depth");
+  mm::cli::setUp(app,
+                 "complete_depth --vod-root data/vod --frame 8350 --output out/08350 --png\n"
+                 "  complete_depth --vod-root data/vod --frames 8350-8365 --output out/depth");
+  Options o;
+  declareOptions(app, o);
+  if (!mm::cli::parse(app, argc, argv)) return 0;
+  paramsFrom(o);  // parameter errors before any input is read
+  const std::vector<FrameJob> jobs = jobsFrom(o);
+  const bool many = mm::cli::framesGiven(o.frames);
+
+  // One completer and one output map for every frame: the thread pool, the pixel-angle grid (the
+  // same camera and grid in a sequence) and the buffers are made once.
+  mm::DepthCompleter completer(paramsFrom(o).threads);
+  mm::DepthMap result;
+  mm::cli::Progress progress("complete_depth", static_cast<int>(jobs.size()), "frames",
+                             o.quiet || !many);
+  double compute_ms = 0.0;
+  for (const FrameJob& job : jobs) {
+    compute_ms += completeFrame(o, job, many, completer, result);
+    progress.step(job.number >= 0 ? mm::io::VodFrame{o.vod_root, job.number}.id() : job.points);
+  }
+  if (many && !o.quiet && !jobs.empty()) {
+    progress.finish();
+    std::cerr << "complete_depth: depth completion itself "
+              << mm::cli::number(compute_ms / jobs.size(), 4).dump()
+              << " ms per frame; wall time / compute time "
+              << mm::cli::number(progress.seconds() * 1000.0 / compute_ms, 3).dump() << "\n";
+  }
   return 0;
 }
 

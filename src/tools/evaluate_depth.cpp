@@ -18,6 +18,7 @@
 #include "common/depth_options.hpp"
 #include "common/frame_options.hpp"
 #include "common/json_output.hpp"
+#include "common/progress.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
@@ -39,6 +40,7 @@ struct Options {
                         calibration_levels = "50,68,80,90,95,99", label, output;
   int subsample = 1, subsample_phase = 0, stride = 1, repeat = 1;
   double max_depth = 0.0;
+  bool quiet = false;
   std::vector<int> image_size;
 };
 
@@ -98,6 +100,7 @@ void declareOptions(CLI::App& app, Options& o) {
       ->check(mm::cli::atLeast(0))
       ->group(out);
   mm::cli::declareDepthModelOptions(app, o.depth);
+  app.add_flag("--quiet", o.quiet, "no progress or throughput on stderr")->group(mm::cli::kOptions);
   app.add_option("--repeat", o.repeat, "run the model N times per frame and report the median time")
       ->check(mm::cli::atLeast(1))
       ->group(mm::cli::kOptions);
@@ -280,6 +283,7 @@ int run(int argc, char** argv) {
 
   mm::DepthCompleter completer(params.threads);
   std::vector<FrameResult> results;
+  mm::cli::Progress progress("evaluate_depth", static_cast<int>(frames.size()), "frames", o.quiet);
   for (int number : frames) {
     const mm::io::VodFrame frame{root, number};
     FrameResult res;
@@ -399,7 +403,10 @@ int run(int argc, char** argv) {
       res.retention.push_back(r);
     }
     results.push_back(res);
+    progress.step(frame.id());
   }
+
+  progress.finish();
 
   // JSON: configuration, per frame, aggregate per retention level.
   const mm::cli::Json config = {{"label", label},

@@ -9,6 +9,7 @@
 #include "common/cli.hpp"
 #include "common/frame_options.hpp"
 #include "common/json_output.hpp"
+#include "common/progress.hpp"
 #include "multimodal_nvs/core/synthetic/dataset.hpp"
 
 namespace mm = multimodal_nvs;
@@ -101,7 +102,7 @@ void declareOptions(CLI::App& app, Options& o) {
   app.add_option("--threads", p.threads, "worker threads (0: all cores)")
       ->check(mm::cli::atLeast(0))
       ->group(mm::cli::kOptions);
-  app.add_flag("--quiet", o.quiet, "no progress bar")->group(mm::cli::kOptions);
+  app.add_flag("--quiet", o.quiet, "no progress or throughput on stderr")->group(mm::cli::kOptions);
 }
 
 /// --frames A-B: the shared frame-list syntax, restricted to one ascending range.
@@ -124,13 +125,6 @@ void applyFrameRange(const CLI::App& app, Options& o) {
   }
   o.p.first_frame = frames.front();
   o.p.frames = static_cast<int>(frames.size());
-}
-
-void progressBar(int done, int total) {
-  const int width = 30, filled = done * width / total;
-  std::cerr << "\rmake_synthetic_scene [" << std::string(filled, '#')
-            << std::string(width - filled, '.') << "] " << done << "/" << total << " frames"
-            << (done == total ? "\n" : "") << std::flush;
 }
 
 int run(int argc, char** argv) {
@@ -160,9 +154,12 @@ int run(int argc, char** argv) {
   const syn::SyntheticDataset dataset(p);
   const std::string& root = o.output;
   const bool quiet = o.quiet;
-  dataset.write(root, [quiet](int done, int total) {
-    if (!quiet) progressBar(done, total);
+  mm::cli::Progress progress("make_synthetic_scene", p.frames, "frames", quiet);
+  dataset.write(root, [&progress](int done, int) {
+    while (progress.done() < done)
+      progress.step();
   });
+  progress.finish();
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto& size = dataset.camera().size;

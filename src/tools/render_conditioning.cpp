@@ -19,6 +19,7 @@
 #include "common/cli.hpp"
 #include "common/frame_options.hpp"
 #include "common/json_output.hpp"
+#include "common/progress.hpp"
 #include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
@@ -48,7 +49,7 @@ struct Options {
   double magnitude = 0.0, max_depth = 100.0, edge_threshold = 0.05, fps = 24.0;
   int num_frames = mm::kGen3cFrames, threads = 0;
   std::vector<int> size{mm::kGen3cHeight, mm::kGen3cWidth};
-  bool gen3c = false;
+  bool gen3c = false, quiet = false;
 };
 
 void declareOptions(CLI::App& app, Options& o) {
@@ -121,6 +122,7 @@ void declareOptions(CLI::App& app, Options& o) {
   app.add_option("--threads", o.threads, "worker threads (0: all cores)")
       ->check(mm::cli::atLeast(0))
       ->group(mm::cli::kOptions);
+  app.add_flag("--quiet", o.quiet, "no progress or throughput on stderr")->group(mm::cli::kOptions);
 }
 
 std::string frameName(int index) {
@@ -426,6 +428,7 @@ int run(int argc, char** argv) {
   double min_coverage = 1.0;
   const auto t_all = std::chrono::steady_clock::now();
   // A chunk at a time: its PNGs and metrics in parallel, then video and export in frame order.
+  mm::cli::Progress progress("render_conditioning", num_frames, "frames", o.quiet);
   const mm::BurstStats stats = mm::renderBurstChunks(
       splatter, cloud, trajectory, splat,
       [&](int first, const std::vector<mm::RenderedFrame>& frames) {
@@ -455,6 +458,7 @@ int run(int argc, char** argv) {
           previews[static_cast<std::size_t>(i)] = preview;
         });
         for (int i = 0; i < count; ++i) {
+          progress.step();
           const mm::RenderedFrame& f = frames[static_cast<std::size_t>(i)];
           min_coverage = std::min(min_coverage, mm::coverage(f.mask));
           if (video.isOpened()) video.write(previews[static_cast<std::size_t>(i)]);
@@ -466,6 +470,7 @@ int run(int argc, char** argv) {
       });
   video.release();
   if (gen3c) gen3c->finish();
+  progress.finish();
   if (!metrics.empty())
     mm::cli::writeTextFile(output + "/metrics.json",
                            metricsJson(metrics, mm::toString(splat.mode)));

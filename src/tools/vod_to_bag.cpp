@@ -41,6 +41,7 @@
 #include "common/cli.hpp"
 #include "common/frame_options.hpp"
 #include "common/json_output.hpp"
+#include "common/progress.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
@@ -104,7 +105,7 @@ void declareOptions(CLI::App& app, Options& o) {
   app.add_flag("--compressed", o.compressed,
                "write /camera/image_raw/compressed with the JPEG bytes instead of raw")
       ->group(out);
-  app.add_flag("--quiet", o.quiet, "no progress bar")->group(mm::cli::kOptions);
+  app.add_flag("--quiet", o.quiet, "no progress or throughput on stderr")->group(mm::cli::kOptions);
 }
 
 std::string defaultWorldFrame(const std::string& key) {
@@ -270,13 +271,6 @@ class BagWriter {
   std::map<std::string, int> counts_;
 };
 
-void progressBar(int done, int total) {
-  const int width = 30, filled = done * width / total;
-  std::cerr << "\rvod_to_bag [" << std::string(filled, '#') << std::string(width - filled, '.')
-            << "] " << done << "/" << total << " frames" << (done == total ? "\n" : "")
-            << std::flush;
-}
-
 int run(int argc, char** argv) {
   CLI::App app(
       "Converts a View-of-Delft layout directory into a ROS bag (camera, camera_info, "
@@ -358,6 +352,7 @@ int run(int argc, char** argv) {
   mm::io::KittiCalib intrinsics = first_intrinsics.value_or(mm::io::KittiCalib());
   int index = 0;
   const int total = static_cast<int>(frames.size());
+  mm::cli::Progress progress("vod_to_bag", total, "frames", o.quiet);
   for (const auto& [number, files] : frames) {
     const mm::io::VodFrame vod{o.root, number};
     const ros::Time stamp = start + ros::Duration(index / o.rate);
@@ -423,13 +418,14 @@ int run(int argc, char** argv) {
                 toCloud(vod.points(kSensors[s]), fields[s], frame_ids[s], stamp));
     }
     ++index;
-    if (!o.quiet) progressBar(index, total);
+    progress.step(vod.id());
   }
   bag.close();
   std::error_code ec;
   fs::rename(partial, o.output, ec);
   if (ec) throw mm::InputError(o.output + ": cannot write (" + ec.message() + ")");
   cleanup.done = true;
+  progress.finish();
 
   mm::cli::Json messages = mm::cli::Json::object();
   for (const auto& [topic, count] : bag.counts())
