@@ -581,7 +581,8 @@ def synthetic_tables(raw):
                               mae_kept80=depth_mean(split, key, "mae_kept80")[0],
                               depth_coverage=depth_mean(split, key, "depth_coverage")[0],
                               runtime_ms=depth_mean(split, key, "runtime_ms")[0])
-                table.add([input_label, MODEL_NAMES[model], fmt(cov, 2),
+                partial = " (%d of %d scenes)" % (n, count) if 0 < n < count else ""
+                table.add([input_label, MODEL_NAMES[model], fmt(cov, 2) + partial,
                            fmt(record["gap_db"], 2), fmt(record["coverage"], 2),
                            fmt(record["psnr"], 2), fmt(mae, 2),
                            fmt(record["depth_coverage"], 2), fmt(record["mae_kept80"], 2),
