@@ -61,7 +61,8 @@ if [[ ! -d "$BUILD_DIR" ]]; then
   exit 2
 fi
 BUILD_DIR=$(cd "$BUILD_DIR" && pwd)
-TOOLS="$BUILD_DIR/devel/lib/multimodal_nvs"
+DEVEL=$("$REPO/scripts/devel_dir.sh" "$BUILD_DIR")
+TOOLS="$DEVEL/lib/multimodal_nvs"
 PY=/usr/bin/python3
 DATA=${MMNVS_DATA_DIR:-$REPO/../shared/data}
 OUT=${EVAL_OUTPUT:-$REPO/eval_output}
