@@ -23,8 +23,8 @@
 #   EVAL_NVS_MODELS  the models whose depth is also rendered into novel views (default: EVAL_MODELS;
 #                    a render costs about ten depth runs)
 #   EVAL_SKIP        space-separated suites to skip: synthetic, vod, real (= astyx nuscenes kitti
-#                    distorted_camera), each of those by name, nvs (no novel views), lidar (no
-#                    LiDAR input), ablation (VoD radius / retention ablations)
+#                    distorted_camera), each of those by name, nvs (no novel views), oracle (no
+#                    oracle renders), lidar (no LiDAR input), ablation (VoD radius ablation)
 #   EVAL_THREADS     worker threads (0 = all cores)
 #   EVAL_SCENE_CACHE where generated scenes are kept (default $EVAL_OUTPUT/scenes); a scene is
 #                    regenerated only when its arguments, scale or frame count change
@@ -284,7 +284,7 @@ else
     skipped lidar || inputs="radar lidar"
     depth_runs "synthetic/$name" "$root" "$SCENE_DEPTH_FRAMES" "$inputs" 1
     if ! skipped nvs; then
-      oracle_runs "$dir/nvs" "$root"
+      skipped oracle || oracle_runs "$dir/nvs" "$root"
       for input in $inputs; do
         nvs_model_runs "$dir/nvs" "$root" 00000 "$input" "$NVS_RETENTION" 0 \
           $((SCENE_FRAMES - 1)) 352 640

@@ -475,6 +475,7 @@ def scene_results(directory):
                 kept, _ = level_of(doc, 80)
                 out["depth"][(input_name, model)] = dict(
                     mae=all_px["mae"] if all_px else None,
+                    depth_coverage=all_px["coverage"] if all_px else None,
                     mae_kept80=kept["mae"] if kept else None, runtime_ms=runtime,
                     frames=[f["frame"] for f in doc["frames"]])
         out["errors"].update({(input_name, m): r for m, r in
@@ -547,10 +548,13 @@ def synthetic_tables(raw):
         if count == 0:
             continue
         header = ["Input", "Depth", "Covered PSNR [dB]", "Gap to oracle [dB]", "Coverage",
-                  "Preview PSNR [dB]", "MAE [m]", "MAE kept 80 % [m]", "Depth runtime [ms]"]
+                  "Preview PSNR [dB]", "MAE [m]", "Depth coverage", "MAE kept 80 % [m]",
+                  "Depth runtime [ms]"]
         table = Table("synthetic_%s_mean" % split,
                       "Synthetic scenes: %s mean (%d scenes)" % (split, count),
-                      "Means over the %d %s scenes of each column. %s %s" %
+                      "Means over the %d %s scenes of each column. Depth coverage: share of "
+                      "the exact-depth pixels that have a prediction (kernel and linear predict "
+                      "only near / between returns, so their MAE covers fewer pixels). %s %s" %
                       (count, split, setup, NVS_NOTE), header)
         for kind, label in (("oracle", "exact depth, sky at 100 m (oracle)"),
                             ("exact_nosky", "exact depth, sky dropped")):
@@ -559,7 +563,7 @@ def synthetic_tables(raw):
                 table.add(["–", label, fmt(cov, 2), fmt(0.0, 2) if kind == "oracle" else
                            fmt(cov - split_mean(split, "oracle", "covered_psnr")[0], 2),
                            fmt(split_mean(split, kind, "coverage")[0], 2),
-                           fmt(split_mean(split, kind, "psnr")[0], 2), "0", "0", "–"],
+                           fmt(split_mean(split, kind, "psnr")[0], 2), "0", "1.00", "0", "–"],
                           dict(depth=kind, split=split, scenes=n, covered_psnr=cov,
                                coverage=split_mean(split, kind, "coverage")[0],
                                psnr=split_mean(split, kind, "psnr")[0]))
@@ -575,10 +579,13 @@ def synthetic_tables(raw):
                               coverage=split_mean(split, key, "coverage")[0],
                               psnr=split_mean(split, key, "psnr")[0], mae=mae,
                               mae_kept80=depth_mean(split, key, "mae_kept80")[0],
+                              depth_coverage=depth_mean(split, key, "depth_coverage")[0],
                               runtime_ms=depth_mean(split, key, "runtime_ms")[0])
-                table.add([input_label, MODEL_NAMES[model], fmt(cov, 2),
+                partial = " (%d of %d scenes)" % (n, count) if 0 < n < count else ""
+                table.add([input_label, MODEL_NAMES[model], fmt(cov, 2) + partial,
                            fmt(record["gap_db"], 2), fmt(record["coverage"], 2),
-                           fmt(record["psnr"], 2), fmt(mae, 2), fmt(record["mae_kept80"], 2),
+                           fmt(record["psnr"], 2), fmt(mae, 2),
+                           fmt(record["depth_coverage"], 2), fmt(record["mae_kept80"], 2),
                            fmt_ms(record["runtime_ms"])], record)
         tables.append(table)
 
@@ -589,8 +596,9 @@ def synthetic_tables(raw):
                        (input_name, m) in s["errors"] for s in scenes)]
         if not keys:
             continue
+        nvs_keys = [k for k in keys if any(k in s["nvs"] for s in scenes)]
         nvs_header = ["Scene", "Split", "Oracle", "Exact, sky dropped"] + \
-            [MODEL_NAMES[m] for _, m in keys]
+            [MODEL_NAMES[m] for _, m in nvs_keys]
         nvs_table = Table("synthetic_%s_nvs_per_scene" % input_name,
                           "Synthetic scenes, %s input: novel view per scene" % input_label,
                           "Cell: covered PSNR [dB] (gap to the oracle) / coverage. %s" % setup,
@@ -614,13 +622,13 @@ def synthetic_tables(raw):
             cells = [s["name"], s["split"], nvs_cell(s["nvs"].get("oracle"), False),
                      nvs_cell(s["nvs"].get("exact_nosky"), False)]
             other = [s["name"], s["split"]]
+            for key in nvs_keys:
+                cells.append(nvs_cell(s["nvs"].get(key)))
             for key in keys:
                 if key in s["errors"] and key not in s["depth"]:
-                    cells.append(s["errors"][key])
                     other.append(s["errors"][key])
                     continue
                 run = s["nvs"].get(key)
-                cells.append(nvs_cell(run))
                 depth = s["depth"].get(key, {})
                 other.append("%s / %s" % (fmt(run["psnr"], 2) if run else "–",
                                           fmt(depth.get("mae"), 2)))
@@ -648,9 +656,10 @@ def synthetic_tables(raw):
                 coverage = split_mean(split, key, "coverage")[0]
                 psnr = split_mean(split, key, "psnr")[0]
                 mae = depth_mean(split, key, "mae")[0]
-                cells.append("%s (%+.2f) / %s" % (fmt(cov, 2), gap, fmt(coverage, 2))
-                             if n and math.isfinite(gap) else
-                             ("%s / %s" % (fmt(cov, 2), fmt(coverage, 2)) if n else "–"))
+                if key in nvs_keys:
+                    cells.append("%s (%+.2f) / %s" % (fmt(cov, 2), gap, fmt(coverage, 2))
+                                 if n and math.isfinite(gap) else
+                                 ("%s / %s" % (fmt(cov, 2), fmt(coverage, 2)) if n else "–"))
                 other.append("%s / %s" % (fmt(psnr, 2), fmt(mae, 2)))
                 record["models"][key[1]] = dict(covered_psnr=cov, gap_db=gap, coverage=coverage,
                                                 psnr=psnr, mae=mae, scenes=n)
