@@ -4,7 +4,7 @@ add_library(multimodal_nvs_core ${MMNVS_CORE_SOURCES})
 target_include_directories(multimodal_nvs_core PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
 target_include_directories(multimodal_nvs_core SYSTEM PUBLIC
   ${EIGEN3_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(multimodal_nvs_core PUBLIC ${OpenCV_LIBS} Threads::Threads)
+target_link_libraries(multimodal_nvs_core PUBLIC ${OpenCV_LIBS} Threads::Threads PRIVATE yaml-cpp)
 set_target_properties(multimodal_nvs_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 # Files that need flags of their own (the package default is -ffp-contract=off, for parity).

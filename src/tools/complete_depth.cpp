@@ -13,6 +13,7 @@
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/io/camera_info_yaml.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
@@ -28,10 +29,16 @@ void declareOptions(mm::cli::Args& args) {
               "scan file: VoD radar .bin (7 floats), LiDAR .bin (4), xyz .bin (3) or .pcd");
   args.option("format", 1, "radar|lidar|xyz|pcd (default: from --sensor, or pcd for *.pcd)");
   args.option("calib", 1, "KITTI calibration with P2 and Tr_velo_to_cam");
+  args.option("camera-info", 1,
+              "ROS camera_info YAML: K and lens distortion (plumb_bob, rational_polynomial) "
+              "instead of P2's pinhole (default under --vod-root: calib/NNNNN_camera_info.yaml "
+              "when present)");
   args.option("image-size", 2, "output image size H W");
   args.option("image", 1, "camera image; its size is the output size");
-  args.option("vod-root", 1, "View-of-Delft layout root (takes points, calib, image from there)");
-  args.option("frame", 1, "VoD frame number, with or without leading zeros");
+  args.option("vod-root", 1,
+              "dataset root, View-of-Delft or KITTI object layout (takes points, calib, image "
+              "from there)");
+  args.option("frame", 1, "frame number, with or without leading zeros");
   args.option("sensor", 1, "radar|lidar", "radar");
   args.option("stride", 1, "output grid step in pixels", "1");
   args.option("retain-percent", 1, "keep this % of all pixels with the lowest variance", "100");
@@ -66,14 +73,23 @@ int run(int argc, char** argv) {
 
   std::string points_path = args.str("points"), calib_path = args.str("calib");
   std::string image_path = args.str("image");
+  std::string camera_info_path = args.str("camera-info");
   const std::string sensor = args.str("sensor", "radar");
   if (sensor != "radar" && sensor != "lidar")
     throw mm::cli::UsageError("--sensor must be radar or lidar");
   if (args.has("vod-root")) {
     if (!args.has("frame")) throw mm::cli::UsageError("--vod-root needs --frame");
     const mm::io::VodFrame frame{args.str("vod-root"), mm::io::parseFrameNumber(args.str("frame"))};
+    if (frame.points(sensor).empty()) {
+      throw mm::cli::UsageError(args.str("vod-root") + " is in the " +
+                                mm::io::toString(frame.layout()) + " layout, which has no " +
+                                sensor + " (use --sensor lidar)");
+    }
     if (points_path.empty()) points_path = frame.points(sensor);
     if (calib_path.empty()) calib_path = frame.calib(sensor);
+    if (camera_info_path.empty() && mm::io::fileExists(frame.cameraInfo(sensor))) {
+      camera_info_path = frame.cameraInfo(sensor);
+    }
     if (image_path.empty() && !args.has("image-size") && mm::io::fileExists(frame.image())) {
       image_path = frame.image();
     }
@@ -112,7 +128,8 @@ int run(int argc, char** argv) {
           : std::string();
   mm::cli::applyGroundPose(args, frame_pose, params);
   const mm::io::KittiCalib calib = mm::io::readKittiCalib(calib_path);
-  const mm::PinholeIntrinsics intrinsics = calib.intrinsics();
+  const mm::PinholeIntrinsics intrinsics =
+      mm::io::frameIntrinsics(calib, camera_info_path, grid.image);
   const mm::SensorToCamera extrinsic = calib.sensorToCamera();
   const auto points_sensor = mm::io::readPoints(points_path, mm::io::parsePointFormat(format));
   const auto points_camera = mm::transformToCamera(points_sensor, extrinsic);

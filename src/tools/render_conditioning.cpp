@@ -128,6 +128,11 @@ RecordedInput recordedInputFrom(const mm::cli::Args& args) {
     if (b < a) throw mm::cli::UsageError("--frames A-B needs A <= B");
     for (int f = a; f <= b; ++f) {
       const mm::io::VodFrame frame{args.str("vod-root"), f};
+      if (frame.pose().empty()) {
+        throw mm::cli::UsageError(args.str("vod-root") + " is in the " +
+                                  mm::io::toString(frame.layout()) +
+                                  " layout, which has no poses: give --preset or --poses");
+      }
       in.pose_files.push_back(frame.pose());
       in.gt_files.push_back(frame.image());
     }
