@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -40,6 +41,7 @@ void touch(const std::string& path) {
 TEST(DatasetLayout, ViewOfDelftNames) {
   const std::string root = makeDirs(::testing::TempDir() + "/layout_vod");
   makeDirs(root + "/lidar/training/image_2");
+  std::remove((root + "/lidar/training/image_2/08350.png").c_str());  // from an earlier run
   const io::DatasetFrame frame{root, 8350};
   EXPECT_EQ(frame.layout(), io::DatasetLayout::kVod);
   EXPECT_EQ(frame.id(), "08350");
