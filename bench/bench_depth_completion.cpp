@@ -52,18 +52,27 @@ const Scan* loadScan(int frame, const std::string& sensor) {
 
 const mm::StrideGrid kFullResolution{{1216, 1936}, 1};
 
+// The plumb_bob lens of ../shared/data/distorted_camera, put on the VoD camera: what a lens model
+// costs per frame (the undistorted rays are computed once, in the camera setup).
+mm::LensDistortion plumbBob() {
+  return mm::LensDistortion::fromRos("plumb_bob",
+                                     {-0.108145, 0.138668, -0.00379757, -0.00484127, 0.0}, "bench");
+}
+
 void runCompletion(benchmark::State& state, int frame, const std::string& sensor,
-                   mm::DepthCompletionParams params) {
+                   mm::DepthCompletionParams params, const mm::LensDistortion& lens = {}) {
   const Scan* scan = loadScan(frame, sensor);
   if (scan == nullptr) {
     state.SkipWithError("VoD data not found (set MMNVS_DATA_DIR)");
     return;
   }
+  mm::PinholeIntrinsics camera = scan->intrinsics;
+  camera.distortion = lens;
   mm::DepthCompleter completer(params.threads);
   mm::DepthMap map;  // reused across scans, as a node does
-  completer.complete(scan->points, scan->intrinsics, kFullResolution, params, map);  // camera setup
+  completer.complete(scan->points, camera, kFullResolution, params, map);  // camera setup
   for (auto _ : state) {
-    completer.complete(scan->points, scan->intrinsics, kFullResolution, params, map);
+    completer.complete(scan->points, camera, kFullResolution, params, map);
     benchmark::DoNotOptimize(map.depth.data());
     state.counters["sets"] = map.stats.neighbour_sets;
   }
@@ -83,7 +92,11 @@ void BM_Radar08350_LocalGpExact_Retain80(benchmark::State& state) {
   runCompletion(state, 8350, "radar", p);
 }
 // The node's radar configuration (config/radar.yaml) at full resolution: ground_gp, 80 % retained.
+mm::DepthCompletionParams radarGroundGp();
 void BM_Radar08350_GroundGp_Retain80(benchmark::State& state) {
+  runCompletion(state, 8350, "radar", radarGroundGp());
+}
+mm::DepthCompletionParams radarGroundGp() {
   mm::DepthCompletionParams p;
   p.model = mm::DepthModel::kGroundGp;
   p.retain_percent = 80.0;
@@ -92,7 +105,15 @@ void BM_Radar08350_GroundGp_Retain80(benchmark::State& state) {
   p.ground.up_x = 0.0;
   p.ground.up_y = -std::cos(pitch);
   p.ground.up_z = std::sin(pitch);
-  runCompletion(state, 8350, "radar", p);
+  return p;
+}
+void BM_Radar08350_GroundGp_Retain80_PlumbBob(benchmark::State& state) {
+  runCompletion(state, 8350, "radar", radarGroundGp(), plumbBob());
+}
+void BM_Radar08350_Kernel_PlumbBob(benchmark::State& state) {
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kKernel;
+  runCompletion(state, 8350, "radar", p, plumbBob());
 }
 void BM_Lidar00549_TiledApprox(benchmark::State& state) {
   mm::DepthCompletionParams p;
@@ -107,6 +128,17 @@ void BM_Radar08350_PixelAngleGrid(benchmark::State& state) {
   if (scan == nullptr) return state.SkipWithError("VoD data not found");
   for (auto _ : state) {
     mm::PixelAngleGrid grid(scan->intrinsics, kFullResolution);
+    benchmark::DoNotOptimize(grid.azimuthRow(0));
+  }
+}
+// Once per camera with a lens model: every pixel's ray undistorted (OpenCV, to convergence).
+void BM_Radar08350_PixelAngleGrid_PlumbBob(benchmark::State& state) {
+  const Scan* scan = loadScan(8350, "radar");
+  if (scan == nullptr) return state.SkipWithError("VoD data not found");
+  mm::PinholeIntrinsics camera = scan->intrinsics;
+  camera.distortion = plumbBob();
+  for (auto _ : state) {
+    mm::PixelAngleGrid grid(camera, kFullResolution);
     benchmark::DoNotOptimize(grid.azimuthRow(0));
   }
 }
@@ -185,6 +217,8 @@ BENCHMARK(BM_Radar08350_LocalGpExact)->Unit(benchmark::kMillisecond)->MinTime(2.
 BENCHMARK(BM_Radar08350_LocalGpExact_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_GroundGp_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_Kernel)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Radar08350_GroundGp_Retain80_PlumbBob)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Radar08350_Kernel_PlumbBob)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Lidar00549_TiledApprox)
     ->Args({16, 16})
     ->Args({32, 16})
@@ -192,6 +226,7 @@ BENCHMARK(BM_Lidar00549_TiledApprox)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
 BENCHMARK(BM_Radar08350_PixelAngleGrid)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Radar08350_PixelAngleGrid_PlumbBob)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_NeighbourSets)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_GpPrediction)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_KeepLowestVariance)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

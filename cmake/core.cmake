@@ -5,7 +5,7 @@ target_include_directories(multimodal_nvs_core PUBLIC ${CMAKE_CURRENT_SOURCE_DIR
 target_include_directories(multimodal_nvs_core SYSTEM PUBLIC
   ${EIGEN3_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
 target_link_libraries(multimodal_nvs_core PUBLIC ${OpenCV_LIBS} Threads::Threads)
-target_link_libraries(multimodal_nvs_core PRIVATE nlohmann_json::nlohmann_json)
+target_link_libraries(multimodal_nvs_core PRIVATE nlohmann_json::nlohmann_json yaml-cpp)
 set_target_properties(multimodal_nvs_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 # Files that need flags of their own (the package default is -ffp-contract=off, for parity).

@@ -114,6 +114,24 @@ void kittiSeeds(const std::string& dir) {
             "Tr_imu_to_velo:\r\n");
 }
 
+void cameraInfoSeeds(const std::string& dir) {
+  // As the ROS camera calibrator writes it (../shared/data/distorted_camera), and a flow-style
+  // rational_polynomial variant without the optional keys.
+  writeFile(dir + "/plumb_bob",
+            "image_width: 1920\nimage_height: 1200\ncamera_name: center_camera\n"
+            "camera_matrix:\n  rows: 3\n  cols: 3\n"
+            "  data: [2109.75, 0.0, 949.828, 0.0, 2071.72, 576.237, 0.0, 0.0, 1.0]\n"
+            "distortion_model: plumb_bob\ndistortion_coefficients:\n  rows: 1\n  cols: 5\n"
+            "  data: [-0.108145, 0.138668, -0.0037976, -0.0048413, 0.0]\n"
+            "rectification_matrix:\n  rows: 3\n  cols: 3\n  data: [1, 0, 0, 0, 1, 0, 0, 0, 1]\n"
+            "projection_matrix:\n  rows: 3\n  cols: 4\n"
+            "  data: [2109.75, 0, 949.828, 0, 0, 2071.72, 576.237, 0, 0, 0, 1, 0]\n");
+  writeFile(dir + "/rational_flow",
+            "{image_width: 640, image_height: 480, camera_matrix: {data: [400, 0, 320, 0, 410, "
+            "240, 0, 0, 1]}, distortion_model: rational_polynomial, distortion_coefficients: "
+            "{rows: 1, cols: 8, data: [0.8, 0.15, 0.001, -0.002, 0.003, 1.1, 0.35, 0.02]}}\n");
+}
+
 void poseSeeds(const std::string& dir) {
   const std::string rotation =
       "[0.0, -1.0, 0.0, 1.5, 0.0, 0.0, -1.0, 0.25, 1.0, 0.0, 0.0, -3e2, "
@@ -204,6 +222,7 @@ int main(int argc, char** argv) {
     makeDir(root);
     cloudSeeds(makeDir(root + "/fuzz_cloud"));
     kittiSeeds(makeDir(root + "/fuzz_kitti_calib"));
+    cameraInfoSeeds(makeDir(root + "/fuzz_camera_info"));
     poseSeeds(makeDir(root + "/fuzz_vod_pose"));
     binSeeds(makeDir(root + "/fuzz_bin"));
     pcdSeeds(makeDir(root + "/fuzz_pcd"));

@@ -19,7 +19,7 @@ BUILD=${FUZZ_BUILD_DIR:-build_fuzz}
 JOBS=${JOBS:-2}
 TIMEOUT=${FUZZ_TIMEOUT:-10}
 RSS_MB=${FUZZ_RSS_MB:-2048}
-ALL_FUZZERS="fuzz_cloud fuzz_kitti_calib fuzz_vod_pose fuzz_bin fuzz_pcd fuzz_npy"
+ALL_FUZZERS="fuzz_cloud fuzz_kitti_calib fuzz_camera_info fuzz_vod_pose fuzz_bin fuzz_pcd fuzz_npy"
 read -r -a fuzzers <<<"${FUZZERS:-$ALL_FUZZERS}"
 
 mkdir -p "$BUILD"

@@ -56,6 +56,8 @@ const char* toString(InputFault fault) {
       return "camera_info_intrinsics";
     case InputFault::kCameraInfoSize:
       return "camera_info_size";
+    case InputFault::kCameraInfoDistortion:
+      return "camera_info_distortion";
     case InputFault::kCloudBehindCamera:
       return "cloud_behind_camera";
     case InputFault::kTransformUnavailable:
@@ -345,6 +347,11 @@ ConversionStatus intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info,
   } catch (const InputError& e) {
     return ConversionStatus::failure(InputFault::kCameraInfoIntrinsics, e.what());
   }
+  try {
+    candidate.distortion = LensDistortion::fromRos(info.distortion_model, info.D, "CameraInfo");
+  } catch (const InputError& e) {
+    return ConversionStatus::failure(InputFault::kCameraInfoDistortion, e.what());
+  }
   if (k[1] != 0.0 || k[3] != 0.0 || k[6] != 0.0 || k[7] != 0.0 || k[8] != 1.0) {
     return ConversionStatus::failure(
         InputFault::kCameraInfoIntrinsics,
@@ -466,6 +473,20 @@ void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, co
   }
   detail::resizeKeepingBuffer(cloud.data, count * cloud.point_step);
   std::uint8_t* out = cloud.data.data();
+  // A distorted camera's rays (the pixel rays undistorted in one batch; pinhole: K's division).
+  std::vector<Eigen::Vector2d> rays;
+  if (intrinsics.distortion.any()) {
+    rays.reserve(count);
+    for (int r = 0; r < grid.rows(); r += step) {
+      for (int c = 0; c < grid.cols(); c += step) {
+        if (depth.valid[std::size_t(r) * grid.cols() + c]) {
+          rays.emplace_back(c * grid.stride, r * grid.stride);
+        }
+      }
+    }
+    intrinsics.normalisedRays(rays);
+  }
+  std::size_t ray_index = 0;
   for (int r = 0; r < grid.rows(); r += step) {
     const int v = r * grid.stride;
     for (int c = 0; c < grid.cols(); c += step) {
@@ -473,8 +494,13 @@ void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, co
       if (!depth.valid[index]) continue;
       const int u = c * grid.stride;
       const double z = depth.depth[index];
-      const float xyz[3] = {float((u - intrinsics.cx) * z / intrinsics.fx),
-                            float((v - intrinsics.cy) * z / intrinsics.fy), float(z)};
+      float xyz[3] = {float((u - intrinsics.cx) * z / intrinsics.fx),
+                      float((v - intrinsics.cy) * z / intrinsics.fy), float(z)};
+      if (!rays.empty()) {
+        const Eigen::Vector2d& ray = rays[ray_index++];
+        xyz[0] = float(ray.x() * z);
+        xyz[1] = float(ray.y() * z);
+      }
       std::uint32_t packed = 0;
       if (has_colour) {
         const cv::Vec3b& px = rgb.at<cv::Vec3b>(v, u);

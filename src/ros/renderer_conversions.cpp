@@ -145,6 +145,7 @@ RendererStatus fromConversion(const ConversionStatus& status, const std::string&
       fault = RendererFault::kImageEmpty;
       break;
     case InputFault::kCameraInfoIntrinsics:
+    case InputFault::kCameraInfoDistortion:  // the camera model, as for K
       fault = RendererFault::kCameraInfoIntrinsics;
       break;
     case InputFault::kCameraInfoSize:

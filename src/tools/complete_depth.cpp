@@ -16,6 +16,7 @@
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/io/camera_info_yaml.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
@@ -27,7 +28,7 @@ namespace {
 
 struct Options {
   mm::cli::DepthModelOptions depth;
-  std::string points, format, calib, image, vod_root, frame, sensor = "radar", output;
+  std::string points, format, calib, camera_info, image, vod_root, frame, sensor = "radar", output;
   std::vector<int> image_size;
   int stride = 1, repeat = 1;
   double retain_percent = 100.0;
@@ -41,6 +42,11 @@ void declareOptions(CLI::App& app, Options& o) {
                  "scan file: VoD radar .bin (7 floats), LiDAR .bin (4), xyz .bin (3) or .pcd")
       ->group(in);
   app.add_option("--calib", o.calib, "KITTI calibration with P2 and Tr_velo_to_cam")->group(in);
+  app.add_option("--camera-info", o.camera_info,
+                 "ROS camera_info YAML: K and lens distortion (plumb_bob, rational_polynomial) "
+                 "instead of P2's pinhole (default under --vod-root: calib/NNNNN_camera_info.yaml "
+                 "when present)")
+      ->group(mm::cli::kInputs);
   app.add_option("--image", o.image, "camera image; its size is the output size")->group(in);
   app.add_option("--image-size", o.image_size, "output image size (instead of --image)")
       ->expected(2)
@@ -48,10 +54,11 @@ void declareOptions(CLI::App& app, Options& o) {
       ->check(mm::cli::atLeast(1))
       ->group(in);
   app.add_option("--vod-root", o.vod_root,
-                 "View-of-Delft layout root (instead of the three above: points, calib and image "
+                 "dataset root, View-of-Delft or KITTI object layout (instead of the three above: "
+                 "points, calib and image "
                  "of --frame)")
       ->group(in);
-  app.add_option("--frame", o.frame, "VoD frame number, with or without leading zeros")->group(in);
+  app.add_option("--frame", o.frame, "frame number, with or without leading zeros")->group(in);
   mm::cli::declareFrameOptions(app, o.frames, in,
                                "many VoD frames in one process, e.g. 8350-8365 or 549,1047 "
                                "(--output is then a directory: OUTPUT/NNNNN_depth.npy, ...)",
@@ -103,7 +110,7 @@ void writePng(const std::string& path, const std::vector<float>& values,
 /// One frame's inputs and where its outputs go.
 struct FrameJob {
   int number = -1;  // -1: files given directly
-  std::string points, calib, image, pose, format, prefix;
+  std::string points, calib, camera_info, image, pose, format, prefix;
 };
 
 bool isPcd(const std::string& path) {
@@ -115,7 +122,15 @@ FrameJob vodJob(const Options& o, int number, const std::string& prefix) {
   FrameJob job;
   job.number = number;
   job.points = o.points.empty() ? frame.points(o.sensor) : o.points;
+  if (frame.points(o.sensor).empty()) {
+    throw mm::cli::UsageError(o.vod_root + " is in the " + mm::io::toString(frame.layout()) +
+                              " layout, which has no " + o.sensor + " (use --sensor lidar)");
+  }
   job.calib = o.calib.empty() ? frame.calib(o.sensor) : o.calib;
+  job.camera_info = o.camera_info;
+  if (job.camera_info.empty() && mm::io::fileExists(frame.cameraInfo(o.sensor))) {
+    job.camera_info = frame.cameraInfo(o.sensor);
+  }
   job.image = o.image;
   if (job.image.empty() && o.image_size.empty() && mm::io::fileExists(frame.image())) {
     job.image = frame.image();
@@ -154,6 +169,7 @@ std::vector<FrameJob> jobsFrom(const Options& o) {
     FrameJob job;
     job.points = o.points;
     job.calib = o.calib;
+    job.camera_info = o.camera_info;
     job.image = o.image;
     job.prefix = o.output;
     jobs.push_back(job);
@@ -207,7 +223,8 @@ double completeFrame(const Options& o, const FrameJob& job, bool name_frame,
   mm::DepthCompletionParams params = paramsFrom(o);
   mm::cli::applyGroundPose(o.depth, job.pose, params);
   const mm::io::KittiCalib calib = mm::io::readKittiCalib(job.calib);
-  const mm::PinholeIntrinsics intrinsics = calib.intrinsics();
+  const mm::PinholeIntrinsics intrinsics =
+      mm::io::frameIntrinsics(calib, job.camera_info, grid.image);
   const auto points_sensor = mm::io::readPoints(job.points, mm::io::parsePointFormat(job.format));
   const auto points_camera = mm::transformToCamera(points_sensor, calib.sensorToCamera());
 

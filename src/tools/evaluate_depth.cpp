@@ -24,6 +24,7 @@
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/retention.hpp"
 #include "multimodal_nvs/core/eval/depth_metrics.hpp"
+#include "multimodal_nvs/core/io/camera_info_yaml.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
@@ -298,8 +299,14 @@ int run(int argc, char** argv) {
     const bool dense = gt_mode == "dense" || (gt_mode == "auto" && mm::io::fileExists(dense_path));
     std::vector<float> truth;
     std::vector<Eigen::Vector3f> input_sensor;
+    if (frame.points(input).empty()) {
+      throw mm::cli::UsageError(root + " is in the " + mm::io::toString(frame.layout()) +
+                                " layout, which has no " + input + " (use --input lidar)");
+    }
     const mm::io::KittiCalib calib = mm::io::readKittiCalib(frame.calib(input));
-    const mm::PinholeIntrinsics intrinsics = calib.intrinsics();
+    const mm::PinholeIntrinsics intrinsics = mm::io::frameIntrinsics(
+        calib, mm::io::fileExists(frame.cameraInfo(input)) ? frame.cameraInfo(input) : "",
+        grid.image);
     if (!from_file) {
       input_sensor = mm::io::readPoints(frame.points(input), mm::io::parsePointFormat(input));
     }
@@ -326,9 +333,11 @@ int run(int argc, char** argv) {
         lidar = mm::io::readPoints(frame.points("lidar"), mm::io::parsePointFormat("lidar"));
       }
       const mm::io::KittiCalib lidar_calib = mm::io::readKittiCalib(frame.calib("lidar"));
-      truth =
-          mm::projectDepthGroundTruth(mm::transformToCamera(lidar, lidar_calib.sensorToCamera()),
-                                      lidar_calib.intrinsics(), grid);
+      const std::string lidar_info =
+          mm::io::fileExists(frame.cameraInfo("lidar")) ? frame.cameraInfo("lidar") : "";
+      truth = mm::projectDepthGroundTruth(
+          mm::transformToCamera(lidar, lidar_calib.sensorToCamera()),
+          mm::io::frameIntrinsics(lidar_calib, lidar_info, grid.image), grid);
       res.gt_points = lidar.size();
       res.gt_kind = "lidar";
     }

@@ -172,6 +172,10 @@ RecordedInput recordedInputFrom(const Options& o) {
     if (o.vod_root.empty()) throw mm::cli::UsageError("--frames needs --vod-root");
     for (int f : mm::cli::selectedFrames(o.frames)) {
       const mm::io::VodFrame frame{o.vod_root, f};
+      if (frame.pose().empty()) {
+        throw mm::cli::UsageError(o.vod_root + " is in the " + mm::io::toString(frame.layout()) +
+                                  " layout, which has no poses: give --preset or --poses");
+      }
       in.pose_files.push_back(frame.pose());
       in.gt_files.push_back(frame.image());
     }

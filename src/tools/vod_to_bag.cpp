@@ -13,6 +13,10 @@
 // precision in float renderers). `--pose-key mapToCamera` publishes `map` -> camera instead (the
 // world the reference renderer uses; relative poses within a short sequence are the same), and
 // `--world-frame` overrides the frame name.
+//
+// Frame names follow REP 103: the camera's frame is an optical frame (z forward, x right, y down,
+// the convention of image and camera_info), so it carries the `_optical` suffix
+// (`camera_optical`); `radar` and `lidar` are body frames of their sensors (x forward, z up).
 #include <geometry_msgs/TransformStamped.h>
 #include <rosbag/bag.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -43,6 +47,7 @@
 #include "common/json_output.hpp"
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/io/camera_info_yaml.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
@@ -56,7 +61,7 @@ namespace {
 
 struct Options {
   std::string root, output, pose_key = mm::io::odometryVodPoseKey(), world_frame;
-  std::string camera_frame = "camera", radar_frame = "radar", lidar_frame = "lidar";
+  std::string camera_frame = "camera_optical", radar_frame = "radar", lidar_frame = "lidar";
   mm::cli::FrameOptions frames;
   std::set<int> selected;  // empty: every frame found
   double rate = 10.0, start_time = 1.0;
@@ -96,7 +101,7 @@ void declareOptions(CLI::App& app, Options& o) {
   app.add_option("--world-frame", o.world_frame,
                  "parent frame of the camera on /tf (default: odom|map|utm by key)")
       ->group(out);
-  app.add_option("--camera-frame", o.camera_frame, "camera frame id")->group(out);
+  app.add_option("--camera-frame", o.camera_frame, "camera optical frame id (REP 103)")->group(out);
   app.add_option("--radar-frame", o.radar_frame, "radar frame id")->group(out);
   app.add_option("--lidar-frame", o.lidar_frame, "LiDAR frame id")->group(out);
   app.add_option("--compression", o.compression, "bag chunk compression: none|lz4|bz2")
@@ -219,8 +224,10 @@ sensor_msgs::PointCloud2 toCloud(const std::string& path, const std::vector<std:
       names, mm::io::readFloatRecords(path, static_cast<int>(names.size())), header);
 }
 
+/// `lens`: the distortion of the frame's camera_info YAML (none without one).
 sensor_msgs::CameraInfo toCameraInfo(const mm::io::KittiCalib& calib, int width, int height,
-                                     const std::string& frame, const ros::Time& stamp) {
+                                     const std::string& frame, const ros::Time& stamp,
+                                     const mm::LensDistortion& lens) {
   const auto& p = calib.numbers("P2", 12);
   calib.intrinsics().validate(calib.source);
   sensor_msgs::CameraInfo info;
@@ -228,8 +235,9 @@ sensor_msgs::CameraInfo toCameraInfo(const mm::io::KittiCalib& calib, int width,
   info.header.frame_id = frame;
   info.width = static_cast<std::uint32_t>(width);
   info.height = static_cast<std::uint32_t>(height);
-  info.distortion_model = "plumb_bob";
-  info.D.assign(5, 0.0);
+  info.distortion_model = lens.any() ? lens.rosName() : "plumb_bob";
+  info.D.assign(lens.coefficients.begin(),
+                lens.coefficients.begin() + std::max(5, lens.coefficientCount()));
   info.K = {p[0], p[1], p[2], p[4], p[5], p[6], p[8], p[9], p[10]};
   info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   for (int i = 0; i < 12; ++i)
@@ -408,8 +416,13 @@ int run(int argc, char** argv) {
         cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
         bag.write("/camera/image_raw", stamp, msg);
       }
+      const std::string lens_yaml = vod.cameraInfo(files.calib[1] ? "lidar" : "radar");
+      const mm::LensDistortion lens =
+          mm::io::fileExists(lens_yaml)
+              ? mm::io::frameIntrinsics(intrinsics, lens_yaml, {bgr.rows, bgr.cols}).distortion
+              : mm::LensDistortion();
       bag.write("/camera/camera_info", stamp,
-                toCameraInfo(intrinsics, bgr.cols, bgr.rows, o.camera_frame, stamp));
+                toCameraInfo(intrinsics, bgr.cols, bgr.rows, o.camera_frame, stamp, lens));
     }
 
     for (int s = 0; s < 2; ++s) {

@@ -223,7 +223,7 @@ TEST_F(PipelineTest, DepthIsFiniteAndPositiveExactlyWhereTheMaskIsSet) {
   for (const auto& depth : o.depth) {
     SCOPED_TRACE("depth/image at " + std::to_string(depth->header.stamp.toSec()));
     EXPECT_EQ(kBagStamps.count(depth->header.stamp), 1u);
-    EXPECT_EQ(depth->header.frame_id, "camera");
+    EXPECT_EQ(depth->header.frame_id, "camera_optical");
     ASSERT_EQ(depth->encoding, sensor_msgs::image_encodings::TYPE_32FC1);
     ASSERT_GE(depth->step, 4u * depth->width);
     ASSERT_EQ(depth->data.size(), std::size_t(depth->step) * depth->height);
@@ -301,7 +301,7 @@ TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
   ASSERT_FALSE(o.points.empty());
   for (const auto& cloud : o.points) {
     SCOPED_TRACE("depth/points at " + std::to_string(cloud->header.stamp.toSec()));
-    EXPECT_EQ(cloud->header.frame_id, "camera");
+    EXPECT_EQ(cloud->header.frame_id, "camera_optical");
     std::map<std::string, const sensor_msgs::PointField*> fields;
     for (const auto& f : cloud->fields)
       fields[f.name] = &f;
@@ -392,12 +392,12 @@ TEST_F(PipelineTest, ConditioningFramesCarryTheCameraHeader) {
   const Outputs& o = *outputs_;
   for (const auto& image : o.conditioning) {
     SCOPED_TRACE("conditioning/image at " + std::to_string(image->header.stamp.toSec()));
-    EXPECT_EQ(image->header.frame_id, "camera");
+    EXPECT_EQ(image->header.frame_id, "camera_optical");
     EXPECT_TRUE(withStamp(o.depth, image->header.stamp)) << "no depth/image with this stamp";
   }
   for (const auto& mask : o.conditioning_mask) {
     SCOPED_TRACE("conditioning/mask at " + std::to_string(mask->header.stamp.toSec()));
-    EXPECT_EQ(mask->header.frame_id, "camera");
+    EXPECT_EQ(mask->header.frame_id, "camera_optical");
   }
 }
 

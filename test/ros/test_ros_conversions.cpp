@@ -419,6 +419,65 @@ TEST(CameraInfoConversion, ReadsKAndChecksSize) {
             InputFault::kCameraInfoIntrinsics);
 }
 
+TEST(CameraInfoConversion, ReadsTheLensModelOrNamesTheUnsupportedOne) {
+  mm::PinholeIntrinsics k;
+  sensor_msgs::CameraInfo plumb = makeInfo();
+  plumb.distortion_model = "plumb_bob";
+  plumb.D = {-0.1, 0.14, -0.004, -0.005, 0.0};
+  ASSERT_TRUE(rc::intrinsicsFromCameraInfo(plumb, mm::ImageSize{240, 320}, k).ok());
+  EXPECT_EQ(k.distortion.model, mm::LensDistortion::Model::kPlumbBob);
+  EXPECT_EQ(k.distortion.coefficients[1], 0.14);
+  sensor_msgs::CameraInfo rational = makeInfo();
+  rational.distortion_model = "rational_polynomial";
+  rational.D = {0.8, 0.15, 0.001, -0.002, 0.003, 1.1, 0.35, 0.02};
+  ASSERT_TRUE(rc::intrinsicsFromCameraInfo(rational, mm::ImageSize{240, 320}, k).ok());
+  EXPECT_EQ(k.distortion.model, mm::LensDistortion::Model::kRationalPolynomial);
+  sensor_msgs::CameraInfo zeros = makeInfo();
+  zeros.distortion_model = "plumb_bob";
+  zeros.D.assign(5, 0.0);
+  ASSERT_TRUE(rc::intrinsicsFromCameraInfo(zeros, mm::ImageSize{240, 320}, k).ok());
+  EXPECT_FALSE(k.distortion.any());  // the pinhole path, unchanged
+  sensor_msgs::CameraInfo fisheye = makeInfo();
+  fisheye.distortion_model = "equidistant";
+  fisheye.D = {0.1, 0.01, 0.0, 0.0};
+  const rc::ConversionStatus status =
+      rc::intrinsicsFromCameraInfo(fisheye, mm::ImageSize{240, 320}, k);
+  EXPECT_EQ(status.fault, InputFault::kCameraInfoDistortion);
+  EXPECT_NE(status.reason.find("'equidistant' is not supported"), std::string::npos)
+      << status.reason;
+  EXPECT_STREQ(rc::toString(InputFault::kCameraInfoDistortion), "camera_info_distortion");
+  sensor_msgs::CameraInfo short_d = plumb;
+  short_d.D.pop_back();
+  EXPECT_EQ(rc::intrinsicsFromCameraInfo(short_d, mm::ImageSize{240, 320}, k).fault,
+            InputFault::kCameraInfoDistortion);
+}
+
+mm::DepthMap makeDepthMap();
+
+TEST(OutputConversion, ColoredCloudOfADistortedCameraUsesTheUndistortedRays) {
+  const mm::DepthMap map = makeDepthMap();
+  const mm::PinholeIntrinsics k{
+      100, 120, 3, 2, mm::LensDistortion::fromRos("plumb_bob", {-0.2, 0.05, 0, 0, 0}, "t")};
+  std_msgs::Header header;
+  sensor_msgs::PointCloud2 cloud;
+  rc::coloredCloud(map, k, cv::Mat(), 1, header, cloud);
+  std::vector<Eigen::Vector3f> points;
+  ASSERT_TRUE(rc::pointsFromCloud(cloud, points).ok());
+  std::size_t i = 0;
+  for (int r = 0; r < map.grid.rows(); ++r) {
+    for (int c = 0; c < map.grid.cols(); ++c) {
+      if (!map.valid[r * map.grid.cols() + c]) continue;
+      ASSERT_LT(i, points.size());
+      double u = 0, v = 0;
+      ASSERT_TRUE(k.project(points[i].x(), points[i].y(), points[i].z(), &u, &v));
+      EXPECT_NEAR(u, c * 2, 1e-3);  // back to the pixel through the lens
+      EXPECT_NEAR(v, r * 2, 1e-3);
+      ++i;
+    }
+  }
+  EXPECT_EQ(i, points.size());
+}
+
 mm::DepthMap makeDepthMap() {
   mm::DepthMap map;
   map.grid = mm::StrideGrid{mm::ImageSize{5, 7}, 2};  // 3 x 4 grid

@@ -144,7 +144,7 @@ TEST(VodToBag, RoundTripEqualsTheFiles) {
   ASSERT_EQ(statics->transforms.size(), 2u);
   const io::VodFrame first{root, 120};
   for (const auto& t : statics->transforms) {
-    EXPECT_EQ(t.header.frame_id, "camera");
+    EXPECT_EQ(t.header.frame_id, "camera_optical");
     ASSERT_TRUE(t.child_frame_id == "radar" || t.child_frame_id == "lidar") << t.child_frame_id;
     const auto expected = io::readKittiCalib(first.calib(t.child_frame_id)).sensorToCamera();
     EXPECT_LT((toIsometry(t.transform).matrix().topRows<3>() - expected).cwiseAbs().maxCoeff(),
@@ -163,7 +163,7 @@ TEST(VodToBag, RoundTripEqualsTheFiles) {
     const auto image = image_instance.instantiate<sensor_msgs::Image>();
     ASSERT_TRUE(image);
     EXPECT_EQ(image->header.stamp, stamp);
-    EXPECT_EQ(image->header.frame_id, "camera");
+    EXPECT_EQ(image->header.frame_id, "camera_optical");
     EXPECT_EQ(image->encoding, "rgb8");
     const cv::Mat bgr = cv::imread(f.image(), cv::IMREAD_COLOR);
     ASSERT_EQ(image->width, static_cast<std::uint32_t>(bgr.cols));
@@ -177,7 +177,7 @@ TEST(VodToBag, RoundTripEqualsTheFiles) {
     const auto info = topics["/camera/camera_info"][i].instantiate<sensor_msgs::CameraInfo>();
     ASSERT_TRUE(info);
     EXPECT_EQ(info->header.stamp, stamp);
-    EXPECT_EQ(info->header.frame_id, "camera");
+    EXPECT_EQ(info->header.frame_id, "camera_optical");
     EXPECT_EQ(info->width, image->width);
     EXPECT_EQ(info->height, image->height);
     const auto k = io::readKittiCalib(f.calib("lidar")).intrinsics();
@@ -215,7 +215,7 @@ TEST(VodToBag, RoundTripEqualsTheFiles) {
     const auto& t = tf->transforms[0];
     EXPECT_EQ(t.header.stamp, stamp);
     EXPECT_EQ(t.header.frame_id, "odom");
-    EXPECT_EQ(t.child_frame_id, "camera");
+    EXPECT_EQ(t.child_frame_id, "camera_optical");
     const Eigen::Matrix4d pose = io::readVodPose(f.pose(), "odomToCamera");
     EXPECT_LT((toIsometry(t.transform).matrix() - pose).cwiseAbs().maxCoeff(), 1e-9);
   }

@@ -41,6 +41,7 @@ enum class InputFault {
   // CameraInfo
   kCameraInfoIntrinsics,  ///< K not a valid pinhole matrix (e.g. all zero)
   kCameraInfoSize,        ///< CameraInfo width/height differ from the image's
+  kCameraInfoDistortion,  ///< distortion_model unsupported (e.g. equidistant) or D malformed
   // Pairing
   kTransformUnavailable,  ///< no tf from the cloud frame to the image frame at the cloud stamp
   kStampNotNewer,         ///< image stamp equal to (duplicate) or just before the last set's

@@ -1,10 +1,129 @@
 #include "multimodal_nvs/core/common/camera.hpp"
 
 #include <cmath>
+#include <limits>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/core.hpp>
 
 #include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
+namespace {
+
+// The radial factor and tangential terms of OpenCV's model (calib3d's projectPoints, without
+// the thin-prism and tilt terms that ROS's models do not carry). Written out because it runs per
+// projected point and cv::projectPoints would need a Mat per call.
+void applyDistortion(const std::array<double, 8>& k, double x, double y, double* xd, double* yd) {
+  const double r2 = x * x + y * y, r4 = r2 * r2, r6 = r4 * r2;
+  const double radial =
+      (1.0 + k[0] * r2 + k[1] * r4 + k[4] * r6) / (1.0 + k[5] * r2 + k[6] * r4 + k[7] * r6);
+  *xd = x * radial + 2.0 * k[2] * x * y + k[3] * (r2 + 2.0 * x * x);
+  *yd = y * radial + k[2] * (r2 + 2.0 * y * y) + 2.0 * k[3] * x * y;
+}
+
+// The radius (normalised) up to which the distorted radius grows with the undistorted one along
+// every direction checked; beyond it the model folds back. Checked up to r = 10 (84 degrees off
+// axis), in 1/1000 steps along 16 directions (tangential terms make it direction dependent).
+double monotoneRadius(const std::array<double, 8>& k) {
+  constexpr int kDirections = 16;
+  constexpr double kStep = 1e-3, kMax = 10.0;
+  double limit = std::numeric_limits<double>::infinity();
+  for (int d = 0; d < kDirections; ++d) {
+    const double a = 2.0 * M_PI * d / kDirections, ca = std::cos(a), sa = std::sin(a);
+    double previous = 0.0;
+    for (double r = kStep; r <= kMax; r += kStep) {
+      double xd = 0, yd = 0;
+      applyDistortion(k, r * ca, r * sa, &xd, &yd);
+      const double along = xd * ca + yd * sa;
+      if (!(along > previous)) {
+        limit = std::min(limit, r - kStep);
+        break;
+      }
+      previous = along;
+    }
+  }
+  return limit;
+}
+
+}  // namespace
+
+LensDistortion LensDistortion::fromRos(const std::string& model, const std::vector<double>& d,
+                                       const std::string& source) {
+  LensDistortion out;
+  std::size_t expected = 0;
+  if (model == "plumb_bob") {
+    expected = 5;
+  } else if (model == "rational_polynomial") {
+    expected = 8;
+  } else if (model.empty() || model == "none") {
+    expected = 0;
+  } else {
+    throw InputError(source + ": distortion model '" + model +
+                     "' is not supported (supported: plumb_bob, rational_polynomial, none)");
+  }
+  const bool all_zero = [&] {
+    for (double v : d)
+      if (v != 0.0) return false;
+    return true;
+  }();
+  // An empty or all-zero D is a pinhole camera whatever the model's name (drivers publish
+  // plumb_bob with five zeros or an empty D for a rectified image).
+  if (all_zero) return out;
+  if (d.size() != expected) {
+    throw InputError(source + ": distortion model '" + (model.empty() ? "(none)" : model) +
+                     "' needs " + std::to_string(expected) + " coefficients in D, got " +
+                     std::to_string(d.size()));
+  }
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    if (!std::isfinite(d[i])) {
+      throw InputError(source + ": distortion model '" + model + "' has a non-finite D[" +
+                       std::to_string(i) + "]");
+    }
+    out.coefficients[i] = d[i];
+  }
+  out.model = expected == 5 ? Model::kPlumbBob : Model::kRationalPolynomial;
+  out.monotone_radius = monotoneRadius(out.coefficients);
+  if (!(out.monotone_radius > 0.05)) {
+    throw InputError(source + ": distortion model '" + model +
+                     "' with these coefficients folds back within 3 degrees of the axis");
+  }
+  return out;
+}
+
+int LensDistortion::coefficientCount() const {
+  switch (model) {
+    case Model::kPlumbBob:
+      return 5;
+    case Model::kRationalPolynomial:
+      return 8;
+    case Model::kNone:
+      break;
+  }
+  return 0;
+}
+
+std::string LensDistortion::rosName() const {
+  switch (model) {
+    case Model::kPlumbBob:
+      return "plumb_bob";
+    case Model::kRationalPolynomial:
+      return "rational_polynomial";
+    case Model::kNone:
+      break;
+  }
+  return "";
+}
+
+bool LensDistortion::distort(double x, double y, double* xd, double* yd) const {
+  if (!any()) {
+    *xd = x;
+    *yd = y;
+    return true;
+  }
+  if (!(x * x + y * y <= monotone_radius * monotone_radius)) return false;
+  applyDistortion(coefficients, x, y, xd, yd);
+  return true;
+}
 
 Eigen::Matrix3d PinholeIntrinsics::matrix() const {
   Eigen::Matrix3d k;
@@ -16,7 +135,7 @@ PinholeIntrinsics PinholeIntrinsics::scaledTo(int from_height, int from_width, i
                                               int to_width) const {
   const double sx = static_cast<double>(to_width) / from_width;
   const double sy = static_cast<double>(to_height) / from_height;
-  return {fx * sx, fy * sy, cx * sx, cy * sy};
+  return {fx * sx, fy * sy, cx * sx, cy * sy, distortion};
 }
 
 void PinholeIntrinsics::validate(const std::string& source) const {
@@ -27,6 +146,36 @@ void PinholeIntrinsics::validate(const std::string& source) const {
     throw InputError(source + ": focal length must be positive (fx=" + std::to_string(fx) +
                      ", fy=" + std::to_string(fy) + ")");
   }
+}
+
+bool PinholeIntrinsics::projectDistorted(double x, double y, double z, double* u, double* v) const {
+  double xd = 0, yd = 0;
+  if (!distortion.distort(x / z, y / z, &xd, &yd)) return false;
+  *u = fx * xd + cx;
+  *v = fy * yd + cy;
+  return true;
+}
+
+void PinholeIntrinsics::normalisedRays(std::vector<Eigen::Vector2d>& pixels) const {
+  if (pixels.empty()) return;
+  if (!distortion.any()) {
+    for (Eigen::Vector2d& p : pixels)
+      p = Eigen::Vector2d((p.x() - cx) / fx, (p.y() - cy) / fy);
+    return;
+  }
+  std::vector<cv::Point2d> in(pixels.size()), out;
+  for (std::size_t i = 0; i < pixels.size(); ++i)
+    in[i] = {pixels[i].x(), pixels[i].y()};
+  const cv::Matx33d k(fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0);
+  const cv::Mat d(1, distortion.coefficientCount(), CV_64F,
+                  const_cast<double*>(distortion.coefficients.data()));
+  // OpenCV's default is 5 fixed-point iterations, short of convergence for strong distortion at
+  // the image corners; iterate until the step is below 1e-12 (normalised units).
+  cv::undistortPoints(
+      in, out, k, d, cv::noArray(), cv::noArray(),
+      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 200, 1e-12));
+  for (std::size_t i = 0; i < pixels.size(); ++i)
+    pixels[i] = Eigen::Vector2d(out[i].x, out[i].y);
 }
 
 }  // namespace multimodal_nvs

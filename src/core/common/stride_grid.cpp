@@ -3,11 +3,13 @@
 namespace multimodal_nvs {
 
 PinholeIntrinsics StrideGrid::gridIntrinsics(const PinholeIntrinsics& image_k) const {
-  return {image_k.fx / stride, image_k.fy / stride, image_k.cx / stride, image_k.cy / stride};
+  return {image_k.fx / stride, image_k.fy / stride, image_k.cx / stride, image_k.cy / stride,
+          image_k.distortion};
 }
 
 PinholeIntrinsics StrideGrid::imageIntrinsics(const PinholeIntrinsics& grid_k) const {
-  return {grid_k.fx * stride, grid_k.fy * stride, grid_k.cx * stride, grid_k.cy * stride};
+  return {grid_k.fx * stride, grid_k.fy * stride, grid_k.cx * stride, grid_k.cy * stride,
+          grid_k.distortion};
 }
 
 std::optional<StrideGrid> strideGridOfSize(const ImageSize& image, const ImageSize& raster) {

@@ -67,6 +67,13 @@ bool angularToPixel(const PinholeIntrinsics& k, double azimuth_deg, double eleva
   constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
   if (!(std::abs(azimuth_deg) < 90.0) || !(std::abs(elevation_deg) < 90.0)) return false;
   const double az = azimuth_deg * kDegToRad, el = elevation_deg * kDegToRad;
+  if (k.distortion.any()) {
+    double xd = 0, yd = 0;
+    if (!k.distortion.distort(std::tan(az), -std::tan(el) / std::cos(az), &xd, &yd)) return false;
+    *u = k.cx + k.fx * xd;
+    *v = k.cy + k.fy * yd;
+    return true;
+  }
   *u = k.cx + k.fx * std::tan(az);
   *v = k.cy - k.fy * std::tan(el) / std::cos(az);
   return true;

@@ -37,6 +37,29 @@ bool pixelBox(const PinholeIntrinsics& k, const StrideGrid& grid, double az0, do
       v1 = std::max(v1, v);
     }
   }
+  if (k.distortion.any()) {
+    // Through a lens the box's edges bend: take the extremes over a 5x5 lattice of the angular
+    // box (ends, quarters, the axis crossing) and widen by a pixel a side below.
+    u0 = v0 = std::numeric_limits<double>::infinity();
+    u1 = v1 = -u0;
+    const auto lattice = [](double lo, double hi, int i) {
+      return i < 4 ? lo + (hi - lo) * i / 3.0 : std::min(std::max(0.0, lo), hi);
+    };
+    for (int i = 0; i < 5; ++i) {
+      for (int j = 0; j < 5; ++j) {
+        if (!angularToPixel(k, lattice(az0, az1, i), lattice(el0, el1, j), &u, &v)) continue;
+        u0 = std::min(u0, u);
+        u1 = std::max(u1, u);
+        v0 = std::min(v0, v);
+        v1 = std::max(v1, v);
+      }
+    }
+    if (!(u0 <= u1 && v0 <= v1)) return false;
+    u0 -= grid.stride;
+    u1 += grid.stride;
+    v0 -= grid.stride;
+    v1 += grid.stride;
+  }
   const double s = grid.stride;
   t.col0 = static_cast<int>(std::max(-1.0, std::floor(u0 / s) - 1));
   t.col1 = static_cast<int>(std::min<double>(grid.cols(), std::ceil(u1 / s) + 1));

@@ -35,8 +35,8 @@ std::size_t countInView(const std::vector<Eigen::Vector3d>& points, const Pinhol
   std::size_t count = 0;
   for (const auto& p : points) {
     if (!p.allFinite() || !(p.z() > 0.0)) continue;
-    const double u = k.fx * p.x() / p.z() + k.cx;
-    const double v = k.fy * p.y() / p.z() + k.cy;
+    double u = 0, v = 0;
+    if (!k.project(p.x(), p.y(), p.z(), &u, &v)) continue;
     count += u >= 0.0 && v >= 0.0 && u < image.width && v < image.height;
   }
   return count;

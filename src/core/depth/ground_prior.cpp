@@ -29,6 +29,16 @@ std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPl
   const PinholeIntrinsics& k = angles.intrinsics();
   const StrideGrid& grid = angles.grid();
   std::vector<float> prior(static_cast<std::size_t>(grid.size()));
+  if (angles.distorted()) {  // the undistorted rays, from the grid's table
+    for (int r = 0; r < grid.rows(); ++r) {
+      for (int c = 0; c < grid.cols(); ++c) {
+        const Eigen::Vector2d ray = angles.normalisedRay(r, c);
+        prior[std::size_t(r) * grid.cols() + c] =
+            static_cast<float>(std::min(plane.depthAlong(ray.x(), ray.y()), far_depth));
+      }
+    }
+    return prior;
+  }
   for (int r = 0; r < grid.rows(); ++r) {
     const double y = (r * grid.stride - k.cy) / k.fy;
     for (int c = 0; c < grid.cols(); ++c) {

@@ -22,14 +22,27 @@ PixelAngleGrid::PixelAngleGrid(const PinholeIntrinsics& intrinsics, const Stride
   const float fy = static_cast<float>(intrinsics.fy);
   const float cx = static_cast<float>(intrinsics.cx);
   const float cy = static_cast<float>(intrinsics.cy);
+  if (distorted()) {
+    rays_.resize(std::size_t(rows) * cols);
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c)
+        rays_[std::size_t(r) * cols + c] = Eigen::Vector2d(c * grid.stride, r * grid.stride);
+    }
+    intrinsics.normalisedRays(rays_);
+  }
   for (int r = 0; r < rows; ++r) {
     const float v = static_cast<float>(r * grid.stride);
-    const float y_n = (cy - v) / fy;
+    float y_n = (cy - v) / fy;
     float min_el = INFINITY;
     float max_el = -INFINITY;
     for (int c = 0; c < cols; ++c) {
       const float u = static_cast<float>(c * grid.stride);
-      const float x_n = (u - cx) / fx;
+      float x_n = (u - cx) / fx;
+      if (!rays_.empty()) {
+        const Eigen::Vector2d& ray = rays_[std::size_t(r) * cols + c];
+        x_n = static_cast<float>(ray.x());
+        y_n = static_cast<float>(-ray.y());  // elevation counts up, image y down
+      }
       const float norm = std::sqrt(x_n * x_n + y_n * y_n + 1.0f);
       const float dx = x_n / norm;
       const float dy = y_n / norm;
@@ -80,6 +93,11 @@ AngularBox PixelAngleGrid::extent() const {
     const float* az = azimuthRow(r);
     box.az_min = std::min({box.az_min, az[0], az[cols - 1]});
     box.az_max = std::max({box.az_max, az[0], az[cols - 1]});
+    if (distorted()) {  // a distorted row's azimuth need not be extreme at its ends
+      const auto [low, high] = std::minmax_element(az, az + cols);
+      box.az_min = std::min(box.az_min, *low);
+      box.az_max = std::max(box.az_max, *high);
+    }
     box.el_min = std::min(box.el_min, row_min_elevation_[r]);
     box.el_max = std::max(box.el_max, row_max_elevation_[r]);
   }
@@ -88,7 +106,13 @@ AngularBox PixelAngleGrid::extent() const {
 
 bool PixelAngleGrid::matches(const PinholeIntrinsics& k, const StrideGrid& grid) const {
   return grid_ == grid && intrinsics_.fx == k.fx && intrinsics_.fy == k.fy &&
-         intrinsics_.cx == k.cx && intrinsics_.cy == k.cy;
+         intrinsics_.cx == k.cx && intrinsics_.cy == k.cy && intrinsics_.distortion == k.distortion;
+}
+
+Eigen::Vector2d PixelAngleGrid::normalisedRay(int row, int col) const {
+  if (!rays_.empty()) return rays_[std::size_t(row) * grid_.cols() + col];
+  return {(double(col) * grid_.stride - intrinsics_.cx) / intrinsics_.fx,
+          (double(row) * grid_.stride - intrinsics_.cy) / intrinsics_.fy};
 }
 
 }  // namespace multimodal_nvs

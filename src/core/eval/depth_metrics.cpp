@@ -135,8 +135,8 @@ std::vector<float> projectDepthGroundTruth(const std::vector<Eigen::Vector3d>& p
   std::vector<float> gt(static_cast<std::size_t>(grid.size()), 0.0f);
   for (const Eigen::Vector3d& p : points) {
     if (!p.allFinite() || !(p.z() > 0.0)) continue;
-    const double u = k.fx * p.x() / p.z() + k.cx;
-    const double v = k.fy * p.y() / p.z() + k.cy;
+    double u = 0, v = 0;
+    if (!k.project(p.x(), p.y(), p.z(), &u, &v)) continue;  // through the lens model, if any
     const double c = std::round(u / grid.stride), r = std::round(v / grid.stride);
     if (!(c >= 0 && r >= 0 && c < cols && r < rows)) continue;
     float& pixel = gt[static_cast<std::size_t>(r) * cols + static_cast<std::size_t>(c)];

@@ -8,6 +8,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <Eigen/Core>
+
 #include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
@@ -75,12 +77,38 @@ PinholeIntrinsics KittiCalib::intrinsics(const std::string& key) const {
   return k;
 }
 
-SensorToCamera KittiCalib::sensorToCamera(const std::string& key) const {
+SensorToCamera KittiCalib::matrix3x4(const std::string& key) const {
   const auto& t = numbers(key, 12);
   SensorToCamera m;
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 4; ++c)
       m(r, c) = t[r * 4 + c];
+  }
+  return m;
+}
+
+SensorToCamera KittiCalib::sensorToCamera(const std::string& projection) const {
+  SensorToCamera m = matrix3x4("Tr_velo_to_cam");
+  // Each step only when it changes something, so that VoD-style files (identity R0_rect, [K | 0])
+  // keep their extrinsic bit for bit.
+  if (entries.count("R0_rect")) {
+    const auto& r0 = numbers("R0_rect", 9);
+    const Eigen::Matrix3d rect =
+        Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r0.data());
+    if (!rect.isIdentity(0.0)) m = rect * m;
+  }
+  const PinholeIntrinsics k = intrinsics(projection);
+  const auto& p = numbers(projection, 12);
+  if (p[3] != 0.0 || p[7] != 0.0 || p[11] != 0.0) {
+    // P = K [I | t]  =>  t = K⁻¹ P[:, 3] (K upper triangular with zero skew).
+    const double tz = p[11];
+    m(0, 3) += (p[3] - k.cx * tz) / k.fx;
+    m(1, 3) += (p[7] - k.cy * tz) / k.fy;
+    m(2, 3) += tz;
+  }
+  if (!m.allFinite()) {
+    throw InputError(source + ": R0_rect · Tr_velo_to_cam with " + projection +
+                     "'s translation overflows");
   }
   return m;
 }

@@ -134,6 +134,30 @@ ColoredCloud backproject(const cv::Mat& depth, const cv::Mat& image_bgr,
   cloud.y.reserve(count);
   cloud.z.reserve(count);
   cloud.bgr.reserve(count);
+  if (k.distortion.any()) {
+    // Each kept pixel's ray through the lens model, undistorted in one batch.
+    std::vector<Eigen::Vector2d> rays;
+    rays.reserve(count);
+    for (int v = 0; v < depth.rows; ++v) {
+      const float* d = depth.ptr<float>(v);
+      for (int u = 0; u < depth.cols; ++u) {
+        if (d[u] > 0.0f && std::isfinite(d[u])) rays.emplace_back(u, v);
+      }
+    }
+    std::vector<Eigen::Vector2d> pixels = rays;
+    k.normalisedRays(rays);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const int u = static_cast<int>(pixels[i].x()), v = static_cast<int>(pixels[i].y());
+      const float z = depth.at<float>(v, u);
+      const cv::Vec3b& c = image_bgr.at<cv::Vec3b>(v, u);
+      cloud.x.push_back(static_cast<float>(z * rays[i].x()));
+      cloud.y.push_back(static_cast<float>(z * rays[i].y()));
+      cloud.z.push_back(z);
+      cloud.bgr.push_back(std::uint32_t(c[0]) | std::uint32_t(c[1]) << 8 |
+                          std::uint32_t(c[2]) << 16);
+    }
+    return cloud;
+  }
   for (int v = 0; v < depth.rows; ++v) {
     const float* d = depth.ptr<float>(v);
     const cv::Vec3b* c = image_bgr.ptr<cv::Vec3b>(v);

@@ -40,8 +40,9 @@ AngularBox boundingBox(const std::vector<AngularSample>& samples);
 std::vector<AngularSample> usableSamples(const std::vector<AngularSample>& samples);
 
 /// Continuous full-image pixel position (u, v) of the direction (az, el) in degrees — the inverse
-/// of the pixel-angle convention: u = cx + fx tan(az), v = cy - fy tan(el) / cos(az). Returns false
-/// for directions at or beyond 90 deg from the optical axis.
+/// of the pixel-angle convention: u = cx + fx tan(az), v = cy - fy tan(el) / cos(az), with the
+/// camera's lens distortion applied to (tan(az), -tan(el) / cos(az)) when it has one. Returns false
+/// for directions at or beyond 90 deg from the optical axis or past the distortion's valid range.
 bool angularToPixel(const PinholeIntrinsics& k, double azimuth_deg, double elevation_deg, double* u,
                     double* v);
 

@@ -11,7 +11,9 @@ namespace multimodal_nvs {
 
 /// Azimuth/elevation of every grid pixel's ray, row-major, computed in float32 exactly as the
 /// reference does (normalised ray, atan2f, degrees). Depends only on intrinsics and grid, so a node
-/// computes it once per camera and reuses it for every scan.
+/// computes it once per camera and reuses it for every scan. With lens distortion each pixel's ray
+/// is undistorted once here (the angular models then need no per-frame camera model at all) and
+/// kept, so that stages working in normalised coordinates read it instead of dividing by K.
 class PixelAngleGrid {
  public:
   PixelAngleGrid() = default;
@@ -34,6 +36,10 @@ class PixelAngleGrid {
   /// The box holding every pixel's angles (azimuth is extreme in the first and last column).
   AngularBox extent() const;
   bool matches(const PinholeIntrinsics& intrinsics, const StrideGrid& grid) const;
+  bool distorted() const { return intrinsics_.distortion.any(); }
+  /// The undistorted normalised ray (x = X/Z, y = Y/Z, y down) of grid pixel (row, col): read from
+  /// the table for a distorted camera, the pinhole division otherwise.
+  Eigen::Vector2d normalisedRay(int row, int col) const;
 
  private:
   PinholeIntrinsics intrinsics_;
@@ -44,6 +50,7 @@ class PixelAngleGrid {
   std::vector<float> row_max_elevation_;
   std::vector<float> column_azimuth_upper_;  // max over rows and columns <= c (non-decreasing)
   std::vector<float> column_azimuth_lower_;  // min over rows and columns >= c (non-decreasing)
+  std::vector<Eigen::Vector2d> rays_;        // undistorted normalised rays; distorted cameras only
 };
 
 }  // namespace multimodal_nvs

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
@@ -78,12 +79,19 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
     for (std::size_t i = 0; i < samples.size(); ++i) {
       const Eigen::Vector2d ray =
           normalisedFromAngles(samples[i].azimuth_deg, samples[i].elevation_deg);
-      const int c = static_cast<int>(std::lround((k.fx * ray.x() + k.cx) / grid.stride));
-      const int r = static_cast<int>(std::lround((k.fy * ray.y() + k.cy) / grid.stride));
+      double pu = k.fx * ray.x() + k.cx, pv = k.fy * ray.y() + k.cy;
+      if (angles.distorted() &&
+          !angularToPixel(k, samples[i].azimuth_deg, samples[i].elevation_deg, &pu, &pv)) {
+        pu = pv = -1e9;  // past the lens model's range: off the grid
+      }
+      const int c = static_cast<int>(std::lround(pu / grid.stride));
+      const int r = static_cast<int>(std::lround(pv / grid.stride));
       double at_sample = plane.depthAlong(ray.x(), ray.y());
       if (r >= 0 && c >= 0 && r < rows && c < cols) {
         const double y = (r * grid.stride - k.cy) / k.fy;
-        const float ground = static_cast<float>(plane.depthAlong(column_x[c], y));
+        const Eigen::Vector2d pixel_ray =
+            angles.distorted() ? angles.normalisedRay(r, c) : Eigen::Vector2d(column_x[c], y);
+        const float ground = static_cast<float>(plane.depthAlong(pixel_ray.x(), pixel_ray.y()));
         at_sample = std::min<double>(at_sample, priorDepth(ground, surface.depth(r, c), farf));
       }
       // A return behind the prior surface is an occluded or multipath return: it says nothing
@@ -103,42 +111,56 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
   } else {
     fillPredictions(angles, 0.0f, 0.0f, pool, out);
   }
+  // A distorted camera's rays are not separable into a column's x and a row's y: its pass reads
+  // each pixel's ray from the grid's table (a separate instantiation, so that the pinhole pass
+  // keeps its arithmetic and vectorisation).
+  const auto row_pass = [&](long long r, auto distorted) {
+    const double y = (r * grid.stride - k.cy) / k.fy;
+    const NearestSurfaceRows::RowWeights w = surface.row(static_cast<int>(r));
+    // Restrict-qualified so that the compiler vectorises the pass.
+    float* __restrict const mean_row = out.mean.data() + r * cols;
+    float* __restrict const variance_row = out.variance.data() + r * cols;
+    const float* __restrict const depth_lo = w.depth_lo;
+    const float* __restrict const depth_hi = w.depth_hi;
+    const float* __restrict const distance_lo = w.distance_lo;
+    const float* __restrict const distance_hi = w.distance_hi;
+    const double* __restrict const xs = column_x.data();
+    // Loop invariants in locals: loads through `plane` or `g` inside the loop would stop
+    // vectorisation (they might alias the stores).
+    const bool has_depth = surface.has_depth;
+    const double up_x = plane.up.x(), up_y = plane.up.y() * y, up_z = plane.up.z();
+    const double up_y_unit = plane.up.y();
+    const double height = plane.height;
+    const double rel = g.relative_sigma, rel_per_deg = g.relative_sigma_per_deg;
+    const float t = w.t, far_value = farf;
+    for (int c = 0; c < cols; ++c) {
+      // plane.depthAlong(xs[c], y) and the surface depth as selects, not branches (the same
+      // arithmetic), so that the loop vectorises (with -fno-trapping-math, CMakeLists.txt).
+      double descent = up_x * xs[c] + up_y + up_z;
+      if constexpr (decltype(distorted)::value) {
+        const Eigen::Vector2d ray = angles.normalisedRay(static_cast<int>(r), c);
+        descent = up_x * ray.x() + up_y_unit * ray.y() + up_z;
+      }
+      const double ground_depth = -height / descent;
+      const float ground = static_cast<float>(descent < 0.0 ? ground_depth : INFINITY);
+      const float lerped = NearestSurfaceRows::lerp(depth_lo[c], depth_hi[c], t);
+      const float nearest = has_depth ? lerped : INFINITY;
+      const float prior = priorDepth(ground, nearest, far_value);
+      const float support_distance = NearestSurfaceRows::lerp(distance_lo[c], distance_hi[c], t);
+      // A depth is positive: the residual GP must not push a near prior through the camera.
+      const float mean = std::max(mean_row[c] + prior, 0.1f);
+      const float sigma = mean * static_cast<float>(rel + rel_per_deg * support_distance);
+      mean_row[c] = mean;
+      variance_row[c] += sigma * sigma;
+    }
+  };
   pool.parallelFor(
       rows,
       [&](long long r, int) {
-        const double y = (r * grid.stride - k.cy) / k.fy;
-        const NearestSurfaceRows::RowWeights w = surface.row(static_cast<int>(r));
-        // Restrict-qualified so that the compiler vectorises the pass.
-        float* __restrict const mean_row = out.mean.data() + r * cols;
-        float* __restrict const variance_row = out.variance.data() + r * cols;
-        const float* __restrict const depth_lo = w.depth_lo;
-        const float* __restrict const depth_hi = w.depth_hi;
-        const float* __restrict const distance_lo = w.distance_lo;
-        const float* __restrict const distance_hi = w.distance_hi;
-        const double* __restrict const xs = column_x.data();
-        // Loop invariants in locals: loads through `plane` or `g` inside the loop would stop
-        // vectorisation (they might alias the stores).
-        const bool has_depth = surface.has_depth;
-        const double up_x = plane.up.x(), up_y = plane.up.y() * y, up_z = plane.up.z();
-        const double height = plane.height;
-        const double rel = g.relative_sigma, rel_per_deg = g.relative_sigma_per_deg;
-        const float t = w.t, far_value = farf;
-        for (int c = 0; c < cols; ++c) {
-          // plane.depthAlong(xs[c], y) and the surface depth as selects, not branches (the same
-          // arithmetic), so that the loop vectorises (with -fno-trapping-math, CMakeLists.txt).
-          const double descent = up_x * xs[c] + up_y + up_z;
-          const double ground_depth = -height / descent;
-          const float ground = static_cast<float>(descent < 0.0 ? ground_depth : INFINITY);
-          const float lerped = NearestSurfaceRows::lerp(depth_lo[c], depth_hi[c], t);
-          const float nearest = has_depth ? lerped : INFINITY;
-          const float prior = priorDepth(ground, nearest, far_value);
-          const float support_distance =
-              NearestSurfaceRows::lerp(distance_lo[c], distance_hi[c], t);
-          // A depth is positive: the residual GP must not push a near prior through the camera.
-          const float mean = std::max(mean_row[c] + prior, 0.1f);
-          const float sigma = mean * static_cast<float>(rel + rel_per_deg * support_distance);
-          mean_row[c] = mean;
-          variance_row[c] += sigma * sigma;
+        if (angles.distorted()) {
+          row_pass(r, std::true_type{});
+        } else {
+          row_pass(r, std::false_type{});
         }
       },
       16);
@@ -253,8 +275,14 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
       [&](long long c, int) {
         if (!std::isfinite(top_z[c]) || top_v[c] <= 0.0) return;
         const int top = std::min(rows, static_cast<int>(std::ceil(top_v[c])));
-        const double x = (double(c) * grid.stride - k.cx) / k.fx;
-        const double y = (top_v[c] * grid.stride - k.cy) / k.fy;
+        double x = (double(c) * grid.stride - k.cx) / k.fx;
+        double y = (top_v[c] * grid.stride - k.cy) / k.fy;
+        if (angles.distorted()) {
+          const int top_row = std::clamp(static_cast<int>(std::lround(top_v[c])), 0, rows - 1);
+          const Eigen::Vector2d ray = angles.normalisedRay(top_row, static_cast<int>(c));
+          x = ray.x();
+          y = ray.y();
+        }
         if (top_z[c] >= (1.0 - kGroundMargin) * plane.depthAlong(x, y)) return;  // ground
         for (int r = 0; r < top; ++r) {
           const std::size_t p = std::size_t(r) * cols + c;
