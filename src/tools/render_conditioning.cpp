@@ -19,8 +19,10 @@
 #include "common/cli.hpp"
 #include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/json_text.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/eval/image_metrics.hpp"
+#include "multimodal_nvs/core/eval/nvs_metrics.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
@@ -66,13 +68,6 @@ void declareOptions(mm::cli::Args& args) {
               "ground-truth images of the recorded poses (default: VoD images of --frames)");
   args.option("fps", 1, "preview video frame rate", "24");
   args.option("threads", 1, "worker threads (0: all cores)", "0");
-}
-
-std::string jsonNumber(double v) {
-  if (!std::isfinite(v)) return "null";
-  std::ostringstream s;
-  s << std::setprecision(10) << v;
-  return s.str();
 }
 
 std::string frameName(int index) {
@@ -145,64 +140,12 @@ RecordedInput recordedInputFrom(const mm::cli::Args& args) {
   return in;
 }
 
-struct FrameMetrics {
-  int frame = 0;
-  std::string gt;
-  double psnr = 0, ssim = 0, covered_psnr = 0, coverage = 0;
-};
-
-/// Mean over the finite values only: a frame reproduced exactly (the reference view) has an
-/// infinite PSNR over its covered pixels, which no mean can include.
-double finiteMean(const std::vector<FrameMetrics>& rows, double FrameMetrics::*field,
-                  bool skip_first) {
-  double sum = 0;
-  int n = 0;
-  for (std::size_t i = skip_first ? 1 : 0; i < rows.size(); ++i) {
-    if (std::isfinite(rows[i].*field)) {
-      sum += rows[i].*field;
-      ++n;
-    }
-  }
-  return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
-}
-
-std::string metricsJson(const std::vector<FrameMetrics>& rows, const std::string& splat) {
-  std::ostringstream out;
-  auto mean = [&](double FrameMetrics::*field, bool skip_first) {
-    return finiteMean(rows, field, skip_first);
-  };
-  out << "{\n  \"protocol\": \"REFERENCE.md section 5: GT resized to the render size (bilinear), "
-         "uint8 RGB; psnr/ssim on the preview (hole-filled, unlabelled) frames; covered_psnr and "
-         "coverage on the raw conditioning frames; means skip non-finite values (null here = +inf: "
-         "an exactly reproduced frame)\",\n  \"splat\": \""
-      << splat << "\",\n  \"frames\": [\n";
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    const FrameMetrics& r = rows[i];
-    out << "    {\"frame\": " << r.frame << ", \"gt\": \"" << mm::cli::jsonEscape(r.gt)
-        << "\", \"psnr\": " << jsonNumber(r.psnr) << ", \"ssim\": " << jsonNumber(r.ssim)
-        << ", \"covered_psnr\": " << jsonNumber(r.covered_psnr)
-        << ", \"coverage\": " << jsonNumber(r.coverage) << "}" << (i + 1 < rows.size() ? "," : "")
-        << "\n";
-  }
-  out << "  ],\n";
-  for (int skip = 0; skip < 2; ++skip) {
-    out << "  \"" << (skip ? "mean_without_reference" : "mean")
-        << "\": {\"psnr\": " << jsonNumber(mean(&FrameMetrics::psnr, skip))
-        << ", \"ssim\": " << jsonNumber(mean(&FrameMetrics::ssim, skip))
-        << ", \"covered_psnr\": " << jsonNumber(mean(&FrameMetrics::covered_psnr, skip))
-        << ", \"coverage\": " << jsonNumber(mean(&FrameMetrics::coverage, skip)) << "}"
-        << (skip ? "\n" : ",\n");
-  }
-  out << "}\n";
-  return out.str();
-}
-
 std::string camerasJson(const mm::Trajectory& traj, const std::string& source) {
   std::ostringstream out;
   out << std::setprecision(12);
   out << "{\n  \"convention\": \"w2c maps the reference camera frame (OpenCV axes) to each target "
          "camera; K is at the render size\",\n  \"source\": \""
-      << mm::cli::jsonEscape(source) << "\",\n  \"size\": [" << traj.size.height << ", "
+      << mm::jsonEscape(source) << "\",\n  \"size\": [" << traj.size.height << ", "
       << traj.size.width << "],\n  \"recorded_frames\": [";
   for (std::size_t i = 0; i < traj.recorded_frames.size(); ++i) {
     out << (i ? ", " : "") << traj.recorded_frames[i];
@@ -346,7 +289,7 @@ int run(int argc, char** argv) {
     const double magnitude = args.number("magnitude", 0.0);
     trajectory = mm::presetTrajectory(preset, magnitude, num_frames, k_target, render_size,
                                       cloud.medianDepth());
-    source = "preset " + mm::toString(preset) + " " + jsonNumber(magnitude) + " " +
+    source = "preset " + mm::toString(preset) + " " + mm::jsonNumber(magnitude) + " " +
              mm::magnitudeUnit(preset);
     if (args.has("gt")) throw mm::cli::UsageError("--gt needs a recorded trajectory, not a preset");
   } else {
@@ -391,7 +334,7 @@ int run(int argc, char** argv) {
 
   mm::PointSplatter splatter(args.integer("threads", 0));
   mm::ThreadPool io_pool(splatter.threads());
-  std::vector<FrameMetrics> metrics;
+  std::vector<mm::NvsFrameMetrics> metrics;
   double min_coverage = 1.0;
   const auto t_all = std::chrono::steady_clock::now();
   // A chunk at a time: its PNGs and metrics in parallel, then video and export in frame order.
@@ -400,22 +343,16 @@ int run(int argc, char** argv) {
       [&](int first, const std::vector<mm::RenderedFrame>& frames) {
         const int count = static_cast<int>(frames.size());
         std::vector<cv::Mat> previews(static_cast<std::size_t>(count));
-        std::vector<FrameMetrics> chunk_metrics(static_cast<std::size_t>(count));
+        std::vector<mm::NvsFrameMetrics> chunk_metrics(static_cast<std::size_t>(count));
         io_pool.parallelFor(count, [&](long long i, int) {
           const int index = first + static_cast<int>(i);
           const mm::RenderedFrame& f = frames[static_cast<std::size_t>(i)];
           cv::Mat preview = mm::fillHolesPushPull(f.bgr, f.mask);
           const std::string& gt_path = gt_of_frame[static_cast<std::size_t>(index)];
           if (!gt_path.empty()) {
-            cv::Mat gt;
-            cv::resize(readImage(gt_path), gt, preview.size(), 0, 0, cv::INTER_LINEAR);
-            FrameMetrics& m = chunk_metrics[static_cast<std::size_t>(i)];
-            m.frame = index;
-            m.gt = gt_path;
-            m.psnr = mm::psnr(preview, gt);
-            m.ssim = mm::ssim(preview, gt);
-            m.covered_psnr = mm::coveredPsnr(f.bgr, gt, f.mask);
-            m.coverage = mm::coverage(f.mask);
+            chunk_metrics[static_cast<std::size_t>(i)] =
+                mm::nvsFrameMetrics(index, gt_path, f, preview,
+                                    mm::groundTruthAtRenderSize(readImage(gt_path), render_size));
           }
           mm::drawPreviewLabel(preview);
           writePng(output + "/frames/" + frameName(index) + ".png", f.bgr);
@@ -436,34 +373,34 @@ int run(int argc, char** argv) {
   video.release();
   if (gen3c) gen3c->finish();
   if (!metrics.empty())
-    writeText(output + "/metrics.json", metricsJson(metrics, mm::toString(splat.mode)));
+    writeText(output + "/metrics.json", mm::nvsMetricsJson(metrics, mm::toString(splat.mode)));
   const double total_ms = mm::millisecondsSince(t_all);
 
-  const double mean_psnr = finiteMean(metrics, &FrameMetrics::psnr, false);
-  const double mean_ssim = finiteMean(metrics, &FrameMetrics::ssim, false);
-  const double mean_cov_psnr = finiteMean(metrics, &FrameMetrics::covered_psnr, false);
-  const double mean_cov = finiteMean(metrics, &FrameMetrics::coverage, false);
+  const double mean_psnr = mm::finiteMean(metrics, &mm::NvsFrameMetrics::psnr, false);
+  const double mean_ssim = mm::finiteMean(metrics, &mm::NvsFrameMetrics::ssim, false);
+  const double mean_cov_psnr = mm::finiteMean(metrics, &mm::NvsFrameMetrics::covered_psnr, false);
+  const double mean_cov = mm::finiteMean(metrics, &mm::NvsFrameMetrics::coverage, false);
   std::ostringstream json;
   json << "{\"frames\": " << num_frames << ", \"size\": [" << render_size.height << ", "
        << render_size.width << "], \"splat\": \"" << mm::toString(splat.mode)
-       << "\", \"trajectory\": \"" << mm::cli::jsonEscape(source)
-       << "\", \"points\": " << cloud.size() << ", \"depth_stride\": " << grid.stride
+       << "\", \"trajectory\": \"" << mm::jsonEscape(source) << "\", \"points\": " << cloud.size()
+       << ", \"depth_stride\": " << grid.stride
        << ", \"resized_to_render\": " << (prep.resize_to_render ? "true" : "false")
-       << ", \"threads\": " << splatter.threads() << ", \"cloud_ms\": " << jsonNumber(cloud_ms)
-       << ", \"render_ms\": " << jsonNumber(stats.render_ms)
-       << ", \"total_ms\": " << jsonNumber(total_ms)
-       << ", \"min_coverage\": " << jsonNumber(min_coverage) << ", \"video\": "
-       << (video_path.empty() ? "null" : "\"" + mm::cli::jsonEscape(video_path) + "\"")
+       << ", \"threads\": " << splatter.threads() << ", \"cloud_ms\": " << mm::jsonNumber(cloud_ms)
+       << ", \"render_ms\": " << mm::jsonNumber(stats.render_ms)
+       << ", \"total_ms\": " << mm::jsonNumber(total_ms)
+       << ", \"min_coverage\": " << mm::jsonNumber(min_coverage) << ", \"video\": "
+       << (video_path.empty() ? "null" : "\"" + mm::jsonEscape(video_path) + "\"")
        << ", \"video_codec\": " << (video_codec.empty() ? "null" : "\"" + video_codec + "\"")
-       << ", \"gen3c\": "
-       << (gen3c ? "\"" + mm::cli::jsonEscape(output + "/gen3c") + "\"" : "null");
+       << ", \"gen3c\": " << (gen3c ? "\"" + mm::jsonEscape(output + "/gen3c") + "\"" : "null");
   if (!metrics.empty()) {
     json << ", \"metrics\": {\"gt_frames\": " << metrics.size()
-         << ", \"psnr\": " << jsonNumber(mean_psnr) << ", \"ssim\": " << jsonNumber(mean_ssim)
-         << ", \"covered_psnr\": " << jsonNumber(mean_cov_psnr)
-         << ", \"coverage\": " << jsonNumber(mean_cov) << "}";
+         << ", \"psnr\": " << mm::jsonNumber(mean_psnr)
+         << ", \"ssim\": " << mm::jsonNumber(mean_ssim)
+         << ", \"covered_psnr\": " << mm::jsonNumber(mean_cov_psnr)
+         << ", \"coverage\": " << mm::jsonNumber(mean_cov) << "}";
   }
-  json << ", \"output\": \"" << mm::cli::jsonEscape(output) << "\"}";
+  json << ", \"output\": \"" << mm::jsonEscape(output) << "\"}";
   std::cout << json.str() << std::endl;
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/json_text.hpp"
 
 namespace multimodal_nvs {
 namespace cli {
@@ -113,16 +114,7 @@ int runTool(const char* program, int (*body)(int, char**), int argc, char** argv
 }
 
 std::string jsonEscape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      out += ' ';
-      continue;
-    }
-    out += c;
-  }
-  return out;
+  return ::multimodal_nvs::jsonEscape(s);
 }
 
 }  // namespace cli
