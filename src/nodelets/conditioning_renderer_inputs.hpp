@@ -27,9 +27,9 @@ class ConditioningRendererInputs {
   ConditioningRendererInputs(int queue_size, const Callback& on_set,
                              const CameraCallback& on_image);
 
-  /// One message per synchronized topic waits for the callback (the newest wins), and
-  /// `camera_queue_size` camera images; the images come raw unless the private `image_transport`
-  /// parameter says otherwise.
+  /// The synchronized topics queue `queue_size` messages each (the image of a depth set must still
+  /// be there when its depth, seconds later, arrives), the camera `camera_queue_size` images; the
+  /// images come raw unless the private `image_transport` parameter says otherwise.
   void subscribe(image_transport::ImageTransport& it, ros::NodeHandle& nh,
                  const ros::NodeHandle& private_nh, uint32_t camera_queue_size);
   void unsubscribe();
@@ -41,6 +41,7 @@ class ConditioningRendererInputs {
   image_transport::SubscriberFilter image_, depth_, mask_;
   message_filters::Subscriber<sensor_msgs::CameraInfo> info_;
   std::unique_ptr<Sync> sync_;
+  uint32_t queue_size_;
   CameraCallback on_image_;
   image_transport::Subscriber camera_;
 };

@@ -94,6 +94,7 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   std::unique_ptr<tf2_ros::StaticTransformBroadcaster> view_broadcaster_;
+  ros::Publisher trajectory_pub_;  // conditioning/trajectory (latched PoseArray of the views)
 
   // ~export_trajectory: its goals run on the action server's thread, one at a time, with their
   // own engine; export_active_ keeps the inputs subscribed while a collection runs.
@@ -136,6 +137,7 @@ void ConditioningRendererNodelet::onInit() {
         publishViews(views, keyframe_header, std::nullopt, "");
       }});
   view_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
+  trajectory_pub_ = nh.advertise<geometry_msgs::PoseArray>("conditioning/trajectory", 1, true);
 
   // The .cfg defaults first; the server then applies the parameter server (YAML) through the same
   // mapping and subscribes the inputs if the settings alone want them (an exported preset).
@@ -442,8 +444,10 @@ void ConditioningRendererNodelet::endExport(ConditioningRendererDiagnostics::Exp
 void ConditioningRendererNodelet::publishViews(
     const Trajectory& views, const std_msgs::Header& keyframe_header,
     const std::optional<Eigen::Matrix4d>& keyframe_in_world, const std::string& world_frame) {
-  view_broadcaster_->sendTransform(
-      virtualViewTransforms(views, keyframe_header, keyframe_in_world, world_frame));
+  const std::vector<geometry_msgs::TransformStamped> transforms =
+      virtualViewTransforms(views, keyframe_header, keyframe_in_world, world_frame);
+  view_broadcaster_->sendTransform(transforms);
+  trajectory_pub_.publish(viewPoseArray(transforms));
 }
 
 void ConditioningRendererNodelet::reconfigure(Config& config, uint32_t /*level*/) {

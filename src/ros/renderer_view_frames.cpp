@@ -46,4 +46,19 @@ std::vector<geometry_msgs::TransformStamped> virtualViewTransforms(
   return out;
 }
 
+geometry_msgs::PoseArray viewPoseArray(const std::vector<geometry_msgs::TransformStamped>& views) {
+  geometry_msgs::PoseArray out;
+  out.header.frame_id = kKeyframeViewFrame;
+  if (!views.empty()) out.header.stamp = views.front().header.stamp;
+  for (std::size_t i = 1; i < views.size(); ++i) {
+    geometry_msgs::Pose pose;
+    pose.position.x = views[i].transform.translation.x;
+    pose.position.y = views[i].transform.translation.y;
+    pose.position.z = views[i].transform.translation.z;
+    pose.orientation = views[i].transform.rotation;
+    out.poses.push_back(pose);
+  }
+  return out;
+}
+
 }  // namespace multimodal_nvs

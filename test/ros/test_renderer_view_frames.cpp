@@ -30,4 +30,9 @@ TEST(RendererViewFrames, ViewsAreChildrenOfTheKeyframeFrame) {
   EXPECT_EQ(in_world[0].header.frame_id, "odom");
   EXPECT_DOUBLE_EQ(in_world[0].transform.translation.z, 7.0);
   EXPECT_EQ(mm::virtualViewFrame(120), "conditioning_view_120");
+
+  const geometry_msgs::PoseArray poses = mm::viewPoseArray(in_world);
+  EXPECT_EQ(poses.header.frame_id, "conditioning_keyframe");
+  ASSERT_EQ(poses.poses.size(), 2u);
+  EXPECT_DOUBLE_EQ(poses.poses[1].position.x, 0.5);
 }

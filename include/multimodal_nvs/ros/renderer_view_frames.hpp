@@ -3,6 +3,7 @@
 // downstream nodes can use the views: `conditioning_keyframe` is the keyframe camera where the
 // keyframe was taken (a child of world_frame at the keyframe's pose when that is known, else of the
 // camera frame itself), and view i is `conditioning_view_NNN` (three digits), its child.
+#include <geometry_msgs/PoseArray.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <std_msgs/Header.h>
 
@@ -26,5 +27,9 @@ std::string virtualViewFrame(int index);
 std::vector<geometry_msgs::TransformStamped> virtualViewTransforms(
     const Trajectory& trajectory, const std_msgs::Header& keyframe_header,
     const std::optional<Eigen::Matrix4d>& keyframe_in_world, const std::string& world_frame);
+
+/// The views of virtualViewTransforms' result (every transform but the keyframe's) as one pose
+/// array in conditioning_keyframe, for rviz's PoseArray display (conditioning/trajectory).
+geometry_msgs::PoseArray viewPoseArray(const std::vector<geometry_msgs::TransformStamped>& views);
 
 }  // namespace multimodal_nvs
