@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
       "{\"image\": [%d, %d], \"depth_stride\": %d, \"sent\": %d, \"received\": %zu, "
       "\"latency_ms\": {\"median\": %.1f, \"p90\": %.1f, \"max\": %.1f}, "
       "\"node_render_mean_ms\": \"%s\", \"node_frame_mean_ms\": \"%s\", \"keyframe_points\": "
-      "\"%s\", \"keyframe_cloud_ms\": \"%s\", \"preview\": %s}\n",
+      "\"%s\", \"keyframe_cloud_ms\": \"%s\", \"preview\": %s, \"rate_hz\": %g, \"depth_every\": %d}\n",
       h, w, s, frames, latency_ms.size(), pct(0.5), pct(0.9), pct(1.0),
       diagnostics["render mean since start (ms)"].c_str(),
       diagnostics["frame mean since start (ms)"].c_str(), diagnostics["keyframe points"].c_str(),
