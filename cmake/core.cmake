@@ -1,11 +1,11 @@
-# Layer 1: the ROS-free core (Eigen + OpenCV only): every .cpp under src/core/, one folder a topic.
+# Layer 1: the ROS-free core (Eigen, OpenCV; nlohmann-json and yaml-cpp for the file formats): every .cpp under src/core/, one folder a topic.
 file(GLOB_RECURSE MMNVS_CORE_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/core/*.cpp)
 add_library(multimodal_nvs_core ${MMNVS_CORE_SOURCES})
 target_include_directories(multimodal_nvs_core PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
 target_include_directories(multimodal_nvs_core SYSTEM PUBLIC
   ${EIGEN3_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
-target_link_libraries(multimodal_nvs_core PUBLIC ${OpenCV_LIBS} Threads::Threads)
-target_link_libraries(multimodal_nvs_core PRIVATE nlohmann_json::nlohmann_json yaml-cpp)
+target_link_libraries(multimodal_nvs_core PUBLIC ${OpenCV_LIBS} Threads::Threads nlohmann_json::nlohmann_json)
+target_link_libraries(multimodal_nvs_core PRIVATE yaml-cpp)
 set_target_properties(multimodal_nvs_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 # Files that need flags of their own (the package default is -ffp-contract=off, for parity).

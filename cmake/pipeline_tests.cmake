@@ -24,3 +24,15 @@ add_rostest(test/ros/pipeline.test ARGS sensor:=lidar
 roslaunch_add_file_check(launch/pipeline.launch USE_TEST_DEPENDENCIES)
 roslaunch_add_file_check(launch/demo.launch USE_TEST_DEPENDENCIES)
 roslaunch_add_file_check(test/ros/pipeline_launch_variants.launch USE_TEST_DEPENDENCIES)
+
+# The paper's experiment on the VoD 08350-08365 bag (real data; skipped without it unless CI=true):
+# 16 live conditioning frames in tf mode and a recorded-trajectory export equal to
+# render_conditioning's.
+add_rostest_gtest(test_renderer_vod test/ros/renderer_vod.test test/ros/test_renderer_vod.cpp)
+target_include_directories(test_renderer_vod SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
+target_link_libraries(test_renderer_vod multimodal_nvs_core ${catkin_LIBRARIES})
+target_compile_definitions(test_renderer_vod PRIVATE
+  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}"
+  MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}")
+add_dependencies(test_renderer_vod ${PROJECT_NAME}_generate_messages_cpp
+  ${MMNVS_PIPELINE_TEST_DEPENDENCIES} render_conditioning)

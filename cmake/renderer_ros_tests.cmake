@@ -15,6 +15,10 @@ target_link_libraries(test_preset_burst multimodal_nvs_ros ${GTEST_MAIN_LIBRARIE
 # The per-frame steps (keyframe, live view, burst) with stand-ins for tf and the publishers.
 catkin_add_gtest(test_renderer_session test/ros/test_renderer_session.cpp)
 target_link_libraries(test_renderer_session multimodal_nvs_ros ${GTEST_MAIN_LIBRARIES})
+catkin_add_gtest(test_renderer_recorded_export test/ros/test_renderer_recorded_export.cpp)
+target_link_libraries(test_renderer_recorded_export multimodal_nvs_ros ${GTEST_MAIN_LIBRARIES})
+catkin_add_gtest(test_renderer_view_frames test/ros/test_renderer_view_frames.cpp)
+target_link_libraries(test_renderer_view_frames multimodal_nvs_ros ${GTEST_MAIN_LIBRARIES})
 
 # The nodelet in both trajectory modes (gtest-in-rostest), loaded into a manager and as the
 # standalone node, through launch/conditioning_renderer.launch.

@@ -31,6 +31,9 @@ int main(int argc, char** argv) {
   const int frames = argc > 4 ? std::atoi(argv[4]) : 40;
   const double rate = argc > 5 ? std::atof(argv[5]) : 5.0;
   const bool preview = argc > 6 && std::atoi(argv[6]) != 0;
+  // A depth set with every depth_every-th image only (the renderer follows the camera; a slower
+  // range sensor only renews the keyframe).
+  const int depth_every = argc > 7 ? std::max(1, std::atoi(argv[7])) : 1;
   ros::NodeHandle nh;
   const double f = 0.8 * w, cx = w / 2.0, cy = h / 2.0;
 
@@ -120,9 +123,11 @@ int main(int argc, char** argv) {
       sent[stamp] = ros::WallTime::now();
     }
     image_pub.publish(image);
-    depth_pub.publish(depth);
-    mask_pub.publish(mask);
-    info_pub.publish(info);
+    if (i % depth_every == 0) {
+      depth_pub.publish(depth);
+      mask_pub.publish(mask);
+      info_pub.publish(info);
+    }
     loop.sleep();
   }
   ros::WallDuration(3.0).sleep();
@@ -135,10 +140,10 @@ int main(int argc, char** argv) {
       "{\"image\": [%d, %d], \"depth_stride\": %d, \"sent\": %d, \"received\": %zu, "
       "\"latency_ms\": {\"median\": %.1f, \"p90\": %.1f, \"max\": %.1f}, "
       "\"node_render_mean_ms\": \"%s\", \"node_frame_mean_ms\": \"%s\", \"keyframe_points\": "
-      "\"%s\", \"keyframe_cloud_ms\": \"%s\", \"preview\": %s}\n",
+      "\"%s\", \"keyframe_cloud_ms\": \"%s\", \"preview\": %s, \"rate_hz\": %g, \"depth_every\": %d}\n",
       h, w, s, frames, latency_ms.size(), pct(0.5), pct(0.9), pct(1.0),
       diagnostics["render mean since start (ms)"].c_str(),
       diagnostics["frame mean since start (ms)"].c_str(), diagnostics["keyframe points"].c_str(),
-      diagnostics["keyframe cloud (ms)"].c_str(), preview ? "true" : "false");
+      diagnostics["keyframe cloud (ms)"].c_str(), preview ? "true" : "false", rate, depth_every);
   return 0;
 }

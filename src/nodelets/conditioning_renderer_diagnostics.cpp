@@ -17,6 +17,20 @@ void ConditioningRendererDiagnostics::countSet() {
   counters_.update([](Counts& counts) { ++counts.sets; });
 }
 
+void ConditioningRendererDiagnostics::countCameraImage() {
+  counters_.update([](Counts& counts) { ++counts.camera_images; });
+}
+
+void ConditioningRendererDiagnostics::countExport(ExportEnd end, int frames, double ms) {
+  counters_.update([&](Counts& counts) {
+    ++counts.exports[static_cast<std::size_t>(end)];
+    if (end == ExportEnd::kComplete) {
+      counts.burst_frames += static_cast<unsigned long>(frames);
+      counts.export_sum_ms += ms;
+    }
+  });
+}
+
 void ConditioningRendererDiagnostics::countFault(rc::RendererFault fault) {
   counters_.update([fault](Counts& counts) { ++counts.faults[static_cast<int>(fault)]; });
 }
@@ -54,6 +68,7 @@ void ConditioningRendererDiagnostics::report(diagnostic_updater::DiagnosticStatu
   const bool subscribed = subscribed_;
   counters_.closeWindow([&](const Counts& window, const Counts& total, double seconds) {
     status.addf("synced sets rate (Hz)", "%.2f", window.sets / seconds);
+    status.addf("camera images rate (Hz)", "%.2f", window.camera_images / seconds);
     status.addf("output rate (Hz)", "%.2f", window.frames / seconds);
     const double frames = std::max<unsigned long>(1, window.frames);
     status.addf("render mean (ms)", "%.1f", window.render_sum_ms / frames);
@@ -63,6 +78,7 @@ void ConditioningRendererDiagnostics::report(diagnostic_updater::DiagnosticStatu
     status.addf("render mean since start (ms)", "%.1f", total.render_sum_ms / all_frames);
     status.addf("frame mean since start (ms)", "%.1f", total.frame_sum_ms / all_frames);
     status.add("synced sets total", total.sets);
+    status.add("camera images total", total.camera_images);
     status.add("published frames total", total.frames);
     status.add("keyframes total", total.keyframes);
     status.add("keyframe points", total.keyframe_points);
@@ -71,6 +87,15 @@ void ConditioningRendererDiagnostics::report(diagnostic_updater::DiagnosticStatu
     status.add("burst frames total", total.burst_frames);
     if (total.bursts > 0) {
       status.addf("burst mean (ms)", "%.1f", total.burst_sum_ms / total.bursts);
+    }
+    using End = ExportEnd;
+    const auto exports = [&](End end) { return total.exports[static_cast<std::size_t>(end)]; };
+    status.add("exports complete", exports(End::kComplete));
+    status.add("exports aborted (bag loop, missing tf, timeout)", exports(End::kAborted));
+    status.add("exports cancelled", exports(End::kCancelled));
+    status.add("exports failed (writing)", exports(End::kFailed));
+    if (exports(End::kComplete) > 0) {
+      status.addf("export mean (ms)", "%.1f", total.export_sum_ms / exports(End::kComplete));
     }
     const unsigned long rejected_window =
         addRejectedRows<rc::RendererFault>(status, window.faults, total.faults);

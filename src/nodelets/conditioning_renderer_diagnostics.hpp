@@ -20,19 +20,27 @@ class ConditioningRendererDiagnostics {
 
   // Thread-safe: called from subscriber, frame and service callbacks.
   void countSet();
+  void countCameraImage();
   void countFault(ros_conversions::RendererFault fault);
   /// One frame rendered and published: splatting time, and the whole callback (conversion, tf,
   /// splatting, preview, publishing).
   void countFrame(double render_ms, double frame_ms);
   void countKeyframe(std::size_t points, double cloud_ms);
   void countBurst(int frames, double burst_ms);
+  /// How a recorded-trajectory export ended.
+  enum class ExportEnd { kComplete, kAborted, kCancelled, kFailed };
+  void countExport(ExportEnd end, int frames, double ms);
   void setSubscribed(bool subscribed);
 
  private:
   void report(diagnostic_updater::DiagnosticStatusWrapper& status);
 
   struct Counts {
-    unsigned long sets = 0, frames = 0, keyframes = 0, bursts = 0, burst_frames = 0;
+    unsigned long sets = 0, camera_images = 0, frames = 0, keyframes = 0, bursts = 0,
+                  burst_frames = 0;
+    // Recorded-trajectory exports by how they ended (ExportEnd).
+    std::array<unsigned long, 4> exports{};
+    double export_sum_ms = 0.0;
     std::array<unsigned long, ros_conversions::kRendererFaultCount> faults{};
     double render_sum_ms = 0.0, render_max_ms = 0.0, frame_sum_ms = 0.0, burst_sum_ms = 0.0;
     // The latest keyframe's, not a sum: the totals' copy is reported.

@@ -1,18 +1,25 @@
 // multimodal_nvs/ConditioningRenderer: the camera image with the depth nodelet's kept depth in;
 // conditioning frames (colour, hole mask, depth, camera_info, labelled preview) out, rendered from
-// a keyframe into the live camera pose from tf, or along a preset trajectory as a burst with an
-// optional GEN3C export. Wiring only: what a frame does is ros/renderer_session.hpp (conversions in
-// ros/renderer_conversions.hpp, the keyframe policy and cloud in ros/renderer_keyframe.hpp, the
-// preset burst in ros/preset_burst.hpp, rendering in the core's core/render/render_burst.hpp).
+// a keyframe into the live camera pose from tf for every camera image, or along a preset
+// trajectory as a burst with an optional GEN3C export; the recorded trajectory exported for GEN3C
+// through the ~export_trajectory action. Wiring only: what a frame does is
+// ros/renderer_session.hpp (conversions in ros/renderer_conversions.hpp, the keyframe policy and
+// cloud in ros/renderer_keyframe.hpp, the preset burst in ros/preset_burst.hpp, the recorded
+// export in ros/renderer_recorded_export.hpp, the views on tf in ros/renderer_view_frames.hpp,
+// rendering in the core's core/render/render_burst.hpp).
+#include <actionlib/server/simple_action_server.h>
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/image_transport.h>
+#include <multimodal_nvs/ExportTrajectoryAction.h>
 #include <nodelet/nodelet.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <mutex>
@@ -20,9 +27,12 @@
 #include "conditioning_renderer_diagnostics.hpp"
 #include "conditioning_renderer_inputs.hpp"
 #include "conditioning_renderer_outputs.hpp"
+#include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/ros/preset_burst.hpp"
 #include "multimodal_nvs/ros/renderer_conversions.hpp"
+#include "multimodal_nvs/ros/renderer_recorded_export.hpp"
 #include "multimodal_nvs/ros/renderer_session.hpp"
+#include "multimodal_nvs/ros/renderer_view_frames.hpp"
 #include "nodelet_state.hpp"
 
 namespace multimodal_nvs {
@@ -33,9 +43,15 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
  private:
   using Config = ConditioningRendererConfig;
   using Settings = ConditioningRendererSettings;
+  using ExportServer = actionlib::SimpleActionServer<ExportTrajectoryAction>;
 
+ public:
+  ~ConditioningRendererNodelet() override;
+
+ private:
   void onInit() override;
   void connectCb();
+  void onCameraImage(const sensor_msgs::ImageConstPtr& image);
   void onFrame(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::ImageConstPtr& mask, const sensor_msgs::CameraInfoConstPtr& info);
   rc::RendererStatus lookupCameraPose(const std::string& world_frame,
@@ -43,11 +59,23 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
                                       Eigen::Matrix4d& camera_to_world);
   bool onSetKeyframe(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
   bool onRender(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res);
+  void onExportGoal(const ExportTrajectoryGoalConstPtr& goal);
+  void exportPreset(const ExportTrajectoryGoal& goal);
+  void exportRecorded(const ExportTrajectoryGoal& goal);
+  /// Waits for the session's collection; true with `job` filled once it is complete, false after
+  /// reporting (result sent, counted) a cancel, a timeout or an abort.
+  bool collectRecordedPoses(const ExportTrajectoryGoal& goal, RecordedExportJob& job);
+  void endExport(ConditioningRendererDiagnostics::ExportEnd end, const std::string& message,
+                 const ExportTrajectoryResult& result);
+  void publishViews(const Trajectory& views, const std_msgs::Header& keyframe_header,
+                    const std::optional<Eigen::Matrix4d>& keyframe_in_world,
+                    const std::string& world_frame);
   void count(const RendererStep& step);
   void reconfigure(Config& config, uint32_t level);
 
   // Static parameters (read once in onInit).
   int queue_size_ = 5;
+  int camera_queue_size_ = 2;
   int publisher_queue_size_ = 10;
   ros::Duration tf_timeout_;
 
@@ -65,6 +93,15 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  std::unique_ptr<tf2_ros::StaticTransformBroadcaster> view_broadcaster_;
+  ros::Publisher trajectory_pub_;  // conditioning/trajectory (latched PoseArray of the views)
+
+  // ~export_trajectory: its goals run on the action server's thread, one at a time, with their
+  // own engine; export_active_ keeps the inputs subscribed while a collection runs.
+  std::unique_ptr<ExportServer> export_server_;
+  ThreadCountCached<PointSplatter> export_splatter_;
+  std::atomic<bool> export_active_{false};
+  std::atomic<bool> shutting_down_{false};
 
   // Written by the reconfigure callback, copied once per frame by the frame callback.
   GuardedSettings<Settings> settings_;
@@ -83,6 +120,7 @@ void ConditioningRendererNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   queue_size_ = pnh.param("queue_size", 5);
+  camera_queue_size_ = pnh.param("camera_queue_size", 2);
   publisher_queue_size_ = pnh.param("publisher_queue_size", 10);
   tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
 
@@ -94,9 +132,12 @@ void ConditioningRendererNodelet::onInit() {
              Eigen::Matrix4d& pose) { return lookupCameraPose(world_frame, header, pose); },
       [this](int threads) -> PointSplatter& { return splatter_.forThreads(threads); },
       [this](const RenderedFrame& frame, const PinholeIntrinsics& intrinsics, const ImageSize& size,
-             const std_msgs::Header& header) {
-        outputs_.publish(frame, intrinsics, size, header);
+             const std_msgs::Header& header) { outputs_.publish(frame, intrinsics, size, header); },
+      [this](const Trajectory& views, const std_msgs::Header& keyframe_header) {
+        publishViews(views, keyframe_header, std::nullopt, "");
       }});
+  view_broadcaster_ = std::make_unique<tf2_ros::StaticTransformBroadcaster>();
+  trajectory_pub_ = nh.advertise<geometry_msgs::PoseArray>("conditioning/trajectory", 1, true);
 
   // The .cfg defaults first; the server then applies the parameter server (YAML) through the same
   // mapping and subscribes the inputs if the settings alone want them (an exported preset).
@@ -105,7 +146,8 @@ void ConditioningRendererNodelet::onInit() {
   inputs_ = std::make_unique<ConditioningRendererInputs>(
       queue_size_,
       boost::bind(&ConditioningRendererNodelet::onFrame, this, boost::placeholders::_1,
-                  boost::placeholders::_2, boost::placeholders::_3, boost::placeholders::_4));
+                  boost::placeholders::_2, boost::placeholders::_3, boost::placeholders::_4),
+      boost::bind(&ConditioningRendererNodelet::onCameraImage, this, boost::placeholders::_1));
   {
     std::lock_guard<std::mutex> lock(connect_mutex_);
     const image_transport::SubscriberStatusCallback image_cb =
@@ -123,6 +165,16 @@ void ConditioningRendererNodelet::onInit() {
   set_keyframe_srv_ =
       pnh.advertiseService("set_keyframe", &ConditioningRendererNodelet::onSetKeyframe, this);
   render_srv_ = pnh.advertiseService("render", &ConditioningRendererNodelet::onRender, this);
+  export_server_ = std::make_unique<ExportServer>(
+      pnh, "export_trajectory",
+      boost::bind(&ConditioningRendererNodelet::onExportGoal, this, boost::placeholders::_1),
+      false);
+  export_server_->start();
+}
+
+ConditioningRendererNodelet::~ConditioningRendererNodelet() {
+  shutting_down_ = true;  // a running goal sees it at its next check and ends
+  if (export_server_) export_server_->shutdown();
 }
 
 // Lazy subscription (depth_image_proc's idiom): inputs follow the presence of output subscribers,
@@ -130,11 +182,23 @@ void ConditioningRendererNodelet::onInit() {
 void ConditioningRendererNodelet::connectCb() {
   std::lock_guard<std::mutex> lock(connect_mutex_);
   if (!advertised_) return;
-  const bool wanted = presetExportWanted(settings_.get()) || outputs_.anySubscribed();
-  if (wanted && !subscribed_) inputs_->subscribe(*it_, getNodeHandle(), getPrivateNodeHandle());
+  const bool wanted =
+      presetExportWanted(settings_.get()) || export_active_ || outputs_.anySubscribed();
+  if (wanted && !subscribed_) {
+    inputs_->subscribe(*it_, getNodeHandle(), getPrivateNodeHandle(),
+                       static_cast<uint32_t>(std::max(1, camera_queue_size_)));
+  }
   if (!wanted && subscribed_) inputs_->unsubscribe();
   subscribed_ = wanted;
   diagnostics_.setSubscribed(wanted);
+}
+
+void ConditioningRendererNodelet::onCameraImage(const sensor_msgs::ImageConstPtr& image) {
+  const auto arrival = std::chrono::steady_clock::now();
+  diagnostics_.countCameraImage();
+  const Settings settings = settings_.get();
+  std::lock_guard<std::mutex> lock(state_mutex_);
+  count(session_->onCameraImage(*image, settings, arrival));
 }
 
 void ConditioningRendererNodelet::onFrame(const sensor_msgs::ImageConstPtr& image,
@@ -195,11 +259,13 @@ bool ConditioningRendererNodelet::onRender(std_srvs::Trigger::Request&,
 /// Counts and logs what a step did; a rejected input set is logged throttled per reason (so that
 /// one recurring fault does not hide another). Called with state_mutex_ held.
 void ConditioningRendererNodelet::count(const RendererStep& step) {
-  if (!step.fault.ok()) {
-    diagnostics_.countFault(step.fault.fault);
-    if (log_throttle_.due(step.fault.fault)) {
-      NODELET_ERROR("dropping input set: %s [%s]", step.fault.reason.c_str(),
-                    rc::toString(step.fault.fault));
+  std::vector<rc::RendererStatus> faults = step.frame_faults;
+  faults.push_back(step.fault);
+  for (const rc::RendererStatus& fault : faults) {
+    if (fault.ok()) continue;
+    diagnostics_.countFault(fault.fault);
+    if (log_throttle_.due(fault.fault)) {
+      NODELET_ERROR("dropping input: %s [%s]", fault.reason.c_str(), rc::toString(fault.fault));
     }
   }
   if (step.keyframe) {
@@ -207,12 +273,181 @@ void ConditioningRendererNodelet::count(const RendererStep& step) {
     NODELET_DEBUG("keyframe at %.3f: %zu points", step.keyframe_stamp.toSec(),
                   step.keyframe_points);
   }
-  if (step.live_frame) diagnostics_.countFrame(step.render_ms, step.frame_ms);
+  for (const RendererStep::LiveFrame& frame : step.live_frames) {
+    diagnostics_.countFrame(frame.render_ms, frame.frame_ms);
+  }
   if (!step.warning.empty()) NODELET_WARN_ONCE("%s", step.warning.c_str());
   if (step.burst) {
     diagnostics_.countBurst(step.burst_frames, step.burst_ms);
     NODELET_INFO("%s", step.report.c_str());
   }
+}
+
+void ConditioningRendererNodelet::onExportGoal(const ExportTrajectoryGoalConstPtr& goal) {
+  if (goal->trajectory == "preset") {
+    exportPreset(*goal);
+  } else if (goal->trajectory.empty() || goal->trajectory == "recorded") {
+    exportRecorded(*goal);
+  } else {
+    ExportTrajectoryResult result;
+    endExport(ConditioningRendererDiagnostics::ExportEnd::kFailed,
+              "unknown trajectory '" + goal->trajectory + "' (recorded | preset)", result);
+  }
+}
+
+/// The preset burst of ~render with the goal's frame count and folder; one step, so its feedback
+/// is its start and its end, and a cancel takes effect after it.
+void ConditioningRendererNodelet::exportPreset(const ExportTrajectoryGoal& goal) {
+  Settings settings = settings_.get();
+  if (goal.num_frames > 0) settings.num_frames = goal.num_frames;
+  if (!goal.output_dir.empty()) settings.export_dir = goal.output_dir;
+  ExportTrajectoryFeedback feedback;
+  feedback.stage = "rendering";
+  feedback.total = settings.num_frames;
+  export_server_->publishFeedback(feedback);
+  RendererStep step;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    step = session_->renderBurst(settings);
+    count(step);
+  }
+  ExportTrajectoryResult result;
+  result.frames = step.burst ? step.burst_frames : 0;
+  if (!step.burst) {
+    endExport(ConditioningRendererDiagnostics::ExportEnd::kFailed, step.error, result);
+    return;
+  }
+  feedback.done = step.burst_frames;
+  export_server_->publishFeedback(feedback);
+  result.success = true;
+  result.message = step.report;
+  const std::string marker = "GEN3C folder ";
+  const std::size_t at = step.report.find(marker);
+  if (at != std::string::npos) result.folder = step.report.substr(at + marker.size());
+  export_server_->setSucceeded(result, result.message);
+}
+
+void ConditioningRendererNodelet::exportRecorded(const ExportTrajectoryGoal& goal) {
+  using End = ConditioningRendererDiagnostics::ExportEnd;
+  const auto start = std::chrono::steady_clock::now();
+  RecordedExportJob job;
+  if (!collectRecordedPoses(goal, job)) return;
+
+  ExportTrajectoryFeedback feedback;
+  feedback.stage = "rendering";
+  const RecordedExportResult exported = exportRecordedTrajectory(
+      export_splatter_.forThreads(job.settings.threads), job,
+      [this, &feedback](int done, int total) {
+        feedback.done = done;
+        feedback.total = total;
+        export_server_->publishFeedback(feedback);
+      },
+      [this] { return shutting_down_ || export_server_->isPreemptRequested(); });
+  ExportTrajectoryResult result;
+  result.poses = static_cast<int>(job.poses.stamps.size());
+  if (!exported.ok) {
+    endExport(exported.cancelled ? End::kCancelled : End::kFailed, exported.error, result);
+    return;
+  }
+  publishViews(exported.trajectory, job.keyframe.header, job.poses.camera_to_world.front(),
+               job.settings.world_frame);
+  result.success = true;
+  result.folder = exported.folder;
+  result.frames = job.poses.request.num_frames;
+  const double ms = millisecondsSince(start);
+  char message[160];
+  std::snprintf(message, sizeof message, "%d recorded poses rendered as %d frames in %.0f ms",
+                result.poses, result.frames, ms);
+  result.message = std::string(message) + "; folder " + exported.folder;
+  diagnostics_.countExport(End::kComplete, result.frames, ms);
+  NODELET_INFO("~export_trajectory: %s", result.message.c_str());
+  export_server_->setSucceeded(result, result.message);
+}
+
+bool ConditioningRendererNodelet::collectRecordedPoses(const ExportTrajectoryGoal& goal,
+                                                       RecordedExportJob& job) {
+  using End = ConditioningRendererDiagnostics::ExportEnd;
+  using Stage = RecordedPoseCollector::Stage;
+  const Settings settings = settings_.get();
+  RecordedExportRequest request;
+  request.num_poses = goal.num_poses;
+  request.duration = goal.duration;
+  request.num_frames = goal.num_frames > 0 ? goal.num_frames : settings.num_frames;
+  request.output_dir = goal.output_dir.empty() ? settings.export_dir : goal.output_dir;
+  ExportTrajectoryResult result;
+  {
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    if (const auto error = session_->startExport(request)) {
+      endExport(End::kFailed, *error, result);
+      return false;
+    }
+  }
+  export_active_ = true;
+  connectCb();
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(goal.timeout);
+  std::string abort_reason;
+  End end = End::kAborted;
+  bool complete = false;
+  ExportTrajectoryFeedback feedback;
+  while (!complete && abort_reason.empty()) {
+    {
+      std::lock_guard<std::mutex> lock(state_mutex_);
+      if (shutting_down_ || !ros::ok() || export_server_->isPreemptRequested()) {
+        session_->abortExport("cancelled while waiting for or collecting the recorded poses");
+        end = End::kCancelled;
+      } else if (goal.timeout > 0.0 && ros::WallTime::now() > deadline) {
+        session_->abortExport("timed out after " + std::to_string(goal.timeout) +
+                              " s of wall time (no keyframe, or too few camera frames)");
+      }
+      const RecordedPoseCollector& collector = session_->exportCollector();
+      if (collector.stage() == Stage::kComplete) {
+        complete = session_->takeExportJob(settings_.get(), job);
+      }
+      if (collector.stage() == Stage::kAborted) {
+        abort_reason = collector.abortReason();
+        session_->resetExport();
+      }
+      feedback.stage =
+          collector.stage() == Stage::kCollecting ? "collecting" : "waiting_for_keyframe";
+      feedback.done = collector.collected();
+      feedback.total = request.duration > 0.0 ? 0 : request.num_poses;
+    }
+    if (!complete && abort_reason.empty()) {
+      export_server_->publishFeedback(feedback);
+      ros::WallDuration(0.05).sleep();
+    }
+  }
+  export_active_ = false;
+  connectCb();
+  if (complete) return true;
+  endExport(end, abort_reason, result);
+  return false;
+}
+
+/// Reports an export that did not complete: counted, logged throttled, and the goal preempted
+/// (a cancel) or aborted.
+void ConditioningRendererNodelet::endExport(ConditioningRendererDiagnostics::ExportEnd end,
+                                            const std::string& message,
+                                            const ExportTrajectoryResult& partial) {
+  diagnostics_.countExport(end, 0, 0.0);
+  ExportTrajectoryResult result = partial;
+  result.success = false;
+  result.message = message;
+  NODELET_ERROR_THROTTLE(2.0, "~export_trajectory: %s", message.c_str());
+  if (end == ConditioningRendererDiagnostics::ExportEnd::kCancelled) {
+    export_server_->setPreempted(result, message);
+  } else {
+    export_server_->setAborted(result, message);
+  }
+}
+
+void ConditioningRendererNodelet::publishViews(
+    const Trajectory& views, const std_msgs::Header& keyframe_header,
+    const std::optional<Eigen::Matrix4d>& keyframe_in_world, const std::string& world_frame) {
+  const std::vector<geometry_msgs::TransformStamped> transforms =
+      virtualViewTransforms(views, keyframe_header, keyframe_in_world, world_frame);
+  view_broadcaster_->sendTransform(transforms);
+  trajectory_pub_.publish(viewPoseArray(transforms));
 }
 
 void ConditioningRendererNodelet::reconfigure(Config& config, uint32_t /*level*/) {

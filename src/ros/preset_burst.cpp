@@ -43,15 +43,17 @@ std::string burstReport(const ConditioningRendererSettings& settings, double bur
 
 namespace {
 
-/// The burst; throws InputError (trajectory, rendering, export) and filesystem_error (export).
-std::string renderAndExport(PointSplatter& splatter, const RendererKeyframe& keyframe,
-                            const ColoredCloud& cloud, const ConditioningRendererSettings& settings,
-                            const BurstPublisher& publish,
-                            const std::function<void(const std::string&)>& warn) {
+/// The burst into `result` (trajectory, folder); throws InputError (trajectory, rendering, export)
+/// and filesystem_error (export).
+void renderAndExport(PointSplatter& splatter, const RendererKeyframe& keyframe,
+                     const ColoredCloud& cloud, const ConditioningRendererSettings& settings,
+                     const BurstPublisher& publish,
+                     const std::function<void(const std::string&)>& warn,
+                     PresetBurstResult& result) {
   const ros_conversions::RendererInput& key = keyframe.input();
   const ImageSize size = settings.renderSize();
   const int n = settings.num_frames;
-  const Trajectory trajectory =
+  result.trajectory =
       presetTrajectory(settings.preset, settings.magnitude, n,
                        key.image_intrinsics.scaledTo(key.image_size.height, key.image_size.width,
                                                      size.height, size.width),
@@ -62,6 +64,7 @@ std::string renderAndExport(PointSplatter& splatter, const RendererKeyframe& key
     gen3c.emplace(gen3cExportFolder(settings.export_dir, key.header.stamp), key.image_bgr, n, size,
                   Gen3cFolderWrite::kRenameWhenComplete);
   }
+  const Trajectory& trajectory = result.trajectory;
   std_msgs::Header header = key.header;
   renderBurst(splatter, cloud, trajectory, settings.splat,
               [&](int index, const RenderedFrame& frame) {
@@ -69,9 +72,9 @@ std::string renderAndExport(PointSplatter& splatter, const RendererKeyframe& key
                 publish(frame, trajectory.cameras[static_cast<std::size_t>(index)], header);
                 if (gen3c) gen3c->append(frame);
               });
-  if (!gen3c) return {};
+  if (!gen3c) return;
   gen3c->finish();
-  return gen3c->folder();
+  result.gen3c_folder = gen3c->folder();
 }
 
 }  // namespace
@@ -83,7 +86,7 @@ PresetBurstResult renderPresetBurst(PointSplatter& splatter, const RendererKeyfr
                                     const std::function<void(const std::string&)>& warn) {
   PresetBurstResult result;
   try {
-    result.gen3c_folder = renderAndExport(splatter, keyframe, cloud, settings, publish, warn);
+    renderAndExport(splatter, keyframe, cloud, settings, publish, warn, result);
     result.ok = true;
   } catch (const InputError& e) {
     result.error = std::string("preset burst failed: ") + e.what();

@@ -10,10 +10,10 @@
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
 #include "common/frame_options.hpp"
-#include "common/json_output.hpp"
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/colormap.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/json_output.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/io/camera_info_yaml.hpp"
@@ -240,7 +240,7 @@ double completeFrame(const Options& o, const FrameJob& job, bool name_frame,
   }
   if (!job.prefix.empty()) writeOutputs(o, job.prefix, result, grid);
 
-  mm::cli::Json json = mm::cli::Json::object();
+  mm::json::Json json = mm::json::Json::object();
   if (name_frame) json["frame"] = job.number;
   json["model"] = mm::toString(params.model);
   json["rows"] = grid.rows();
@@ -252,16 +252,16 @@ double completeFrame(const Options& o, const FrameJob& job, bool name_frame,
   json["points_non_finite"] = s.points_non_finite;
   json["points_in_view"] = s.points_in_view;
   json["neighbour_sets"] = s.neighbour_sets;
-  json["shift"] = mm::cli::number(s.shift, 6);
+  json["shift"] = mm::json::number(s.shift, 6);
   json["threads"] = completer.threads();
-  json["compute_ms"] = mm::cli::number(times.front(), 6);
+  json["compute_ms"] = mm::json::number(times.front(), 6);
   if (o.repeat > 1) {
     std::sort(times.begin(), times.end());
     json["repeat"] = o.repeat;
-    json["median_ms"] = mm::cli::number(times[times.size() / 2], 6);
-    json["min_ms"] = mm::cli::number(times.front(), 6);
+    json["median_ms"] = mm::json::number(times[times.size() / 2], 6);
+    json["min_ms"] = mm::json::number(times.front(), 6);
   }
-  std::cout << mm::cli::oneLine(json) << std::endl;
+  std::cout << mm::json::oneLine(json) << std::endl;
   return times.front();
 }
 
@@ -295,9 +295,9 @@ int run(int argc, char** argv) {
   if (many && !o.quiet && !jobs.empty()) {
     progress.finish();
     std::cerr << "complete_depth: depth completion itself "
-              << mm::cli::number(compute_ms / jobs.size(), 4).dump()
+              << mm::json::number(compute_ms / jobs.size(), 4).dump()
               << " ms per frame; wall time / compute time "
-              << mm::cli::number(progress.seconds() * 1000.0 / compute_ms, 3).dump() << "\n";
+              << mm::json::number(progress.seconds() * 1000.0 / compute_ms, 3).dump() << "\n";
   }
   return 0;
 }

@@ -17,9 +17,9 @@
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
 #include "common/frame_options.hpp"
-#include "common/json_output.hpp"
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/json_output.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/retention.hpp"
@@ -180,41 +180,41 @@ struct FrameResult {
   std::vector<RetentionResult> retention;
 };
 
-mm::cli::Json sumsJson(const mm::DepthErrorSums& s) {
+mm::json::Json sumsJson(const mm::DepthErrorSums& s) {
   return {{"gt_pixels", s.gt_pixels},
           {"count", s.count},
-          {"abs_error", mm::cli::number(s.abs_error)},
-          {"sq_error", mm::cli::number(s.sq_error)},
-          {"sq_log_error", mm::cli::number(s.sq_log_error)},
-          {"abs_rel", mm::cli::number(s.abs_rel)},
+          {"abs_error", mm::json::number(s.abs_error)},
+          {"sq_error", mm::json::number(s.sq_error)},
+          {"sq_log_error", mm::json::number(s.sq_log_error)},
+          {"abs_rel", mm::json::number(s.abs_rel)},
           {"delta1", s.delta1}};
 }
 
 /// [{"level": p, "observed": share, "inside": count, "count": n}, ...] of the central intervals.
-mm::cli::Json calibrationJson(const mm::CalibrationCounts& c) {
-  mm::cli::Json out = mm::cli::Json::array();
+mm::json::Json calibrationJson(const mm::CalibrationCounts& c) {
+  mm::json::Json out = mm::json::Json::array();
   for (std::size_t i = 0; i < c.levels.size(); ++i) {
-    out.push_back({{"level", mm::cli::number(c.levels[i])},
-                   {"observed", mm::cli::number(c.observed(i))},
+    out.push_back({{"level", mm::json::number(c.levels[i])},
+                   {"observed", mm::json::number(c.observed(i))},
                    {"inside", c.inside[i]},
                    {"count", c.count}});
   }
   return out;
 }
 
-mm::cli::Json metricsJson(const mm::DepthMetrics& m) {
+mm::json::Json metricsJson(const mm::DepthMetrics& m) {
   return {{"count", m.count},
           {"gt_pixels", m.gt_pixels},
-          {"mae", mm::cli::number(m.mae)},
-          {"rmse", mm::cli::number(m.rmse)},
-          {"rmse_log", mm::cli::number(m.rmse_log)},
-          {"abs_rel", mm::cli::number(m.abs_rel)},
-          {"delta1", mm::cli::number(m.delta1)},
-          {"coverage", mm::cli::number(m.coverage)}};
+          {"mae", mm::json::number(m.mae)},
+          {"rmse", mm::json::number(m.rmse)},
+          {"rmse_log", mm::json::number(m.rmse_log)},
+          {"abs_rel", mm::json::number(m.abs_rel)},
+          {"delta1", mm::json::number(m.delta1)},
+          {"coverage", mm::json::number(m.coverage)}};
 }
 
 /// Mean over frames of each metric (frames where it is undefined are skipped).
-mm::cli::Json meanOverFramesJson(const std::vector<FrameResult>& frames, std::size_t level) {
+mm::json::Json meanOverFramesJson(const std::vector<FrameResult>& frames, std::size_t level) {
   double sum[6] = {0, 0, 0, 0, 0, 0};
   int count[6] = {0, 0, 0, 0, 0, 0};
   for (const FrameResult& f : frames) {
@@ -228,8 +228,8 @@ mm::cli::Json meanOverFramesJson(const std::vector<FrameResult>& frames, std::si
     }
   }
   auto mean = [&](int i) {
-    return mm::cli::number(count[i] > 0 ? sum[i] / count[i]
-                                        : std::numeric_limits<double>::quiet_NaN());
+    return mm::json::number(count[i] > 0 ? sum[i] / count[i]
+                                         : std::numeric_limits<double>::quiet_NaN());
   };
   return {{"frames", frames.size()}, {"mae", mean(0)},     {"rmse", mean(1)},
           {"rmse_log", mean(2)},     {"abs_rel", mean(3)}, {"delta1", mean(4)},
@@ -418,23 +418,23 @@ int run(int argc, char** argv) {
   progress.finish();
 
   // JSON: configuration, per frame, aggregate per retention level.
-  const mm::cli::Json config = {{"label", label},
-                                {"model", from_file ? "file" : mm::toString(params.model)},
-                                {"input", input},
-                                {"subsample", k},
-                                {"subsample_phase", phase},
-                                {"gt", gt_mode},
-                                {"stride", stride},
-                                {"radius_deg", mm::cli::number(params.radius_deg)},
-                                {"max_neighbors", params.max_neighbors},
-                                {"max_depth", mm::cli::number(options.max_depth)},
-                                {"threads", completer.threads()},
-                                {"vod_root", root},
-                                {"shard", {shard.index, shard.count}}};
+  const mm::json::Json config = {{"label", label},
+                                 {"model", from_file ? "file" : mm::toString(params.model)},
+                                 {"input", input},
+                                 {"subsample", k},
+                                 {"subsample_phase", phase},
+                                 {"gt", gt_mode},
+                                 {"stride", stride},
+                                 {"radius_deg", mm::json::number(params.radius_deg)},
+                                 {"max_neighbors", params.max_neighbors},
+                                 {"max_depth", mm::json::number(options.max_depth)},
+                                 {"threads", completer.threads()},
+                                 {"vod_root", root},
+                                 {"shard", {shard.index, shard.count}}};
   std::vector<double> runtimes;
   for (const FrameResult& f : results)
     runtimes.push_back(f.runtime_ms);
-  mm::cli::Json aggregate = mm::cli::Json::array();
+  mm::json::Json aggregate = mm::json::Json::array();
   for (std::size_t l = 0; l < levels.size(); ++l) {
     mm::DepthErrorSums pooled;
     mm::CalibrationCounts calibration;
@@ -446,7 +446,7 @@ int run(int argc, char** argv) {
       calibration.merge(f.retention[l].calibration);
       kept += f.retention[l].kept;
     }
-    aggregate.push_back({{"retain_percent", mm::cli::number(levels[l])},
+    aggregate.push_back({{"retain_percent", mm::json::number(levels[l])},
                          {"kept", kept},
                          {"pooled", metricsJson(mm::DepthMetrics::from(pooled))},
                          {"mean_over_frames", meanOverFramesJson(results, l)},
@@ -454,11 +454,11 @@ int run(int argc, char** argv) {
                          {"calibration", calibrationJson(calibration)}});
   }
 
-  mm::cli::Json per_frame = mm::cli::Json::array();
+  mm::json::Json per_frame = mm::json::Json::array();
   for (const FrameResult& f : results) {
-    mm::cli::Json retention = mm::cli::Json::array();
+    mm::json::Json retention = mm::json::Json::array();
     for (const RetentionResult& r : f.retention) {
-      retention.push_back({{"retain_percent", mm::cli::number(r.percent)},
+      retention.push_back({{"retain_percent", mm::json::number(r.percent)},
                            {"kept", r.kept},
                            {"metrics", metricsJson(mm::DepthMetrics::from(r.sums))},
                            {"sums", sumsJson(r.sums)},
@@ -469,11 +469,11 @@ int run(int argc, char** argv) {
                          {"input_points", f.input_points},
                          {"input_in_view", f.input_in_view},
                          {"gt_points", f.gt_points},
-                         {"runtime_ms", mm::cli::number(f.runtime_ms)},
+                         {"runtime_ms", mm::json::number(f.runtime_ms)},
                          {"retention", retention}});
   }
   if (!o.output.empty()) {
-    const mm::cli::Json full = {
+    const mm::json::Json full = {
         {"tool", "evaluate_depth"},
         {"config", config},
         {"protocol",
@@ -484,15 +484,15 @@ int run(int argc, char** argv) {
          "each nominal level (sigma^2 = the predicted variance); runtime_ms = model compute time "
          "(median over --repeat)"},
         {"frames", per_frame},
-        {"median_runtime_ms", mm::cli::number(median(runtimes))},
+        {"median_runtime_ms", mm::json::number(median(runtimes))},
         {"aggregate", aggregate}};
-    mm::cli::writeTextFile(o.output, mm::cli::document(full));
+    mm::json::writeTextFile(o.output, mm::json::document(full));
   }
-  const mm::cli::Json summary = {{"config", config},
-                                 {"frames", results.size()},
-                                 {"median_runtime_ms", mm::cli::number(median(runtimes))},
-                                 {"aggregate", aggregate}};
-  std::cout << mm::cli::oneLine(summary) << std::endl;
+  const mm::json::Json summary = {{"config", config},
+                                  {"frames", results.size()},
+                                  {"median_runtime_ms", mm::json::number(median(runtimes))},
+                                  {"aggregate", aggregate}};
+  std::cout << mm::json::oneLine(summary) << std::endl;
   return 0;
 }
 

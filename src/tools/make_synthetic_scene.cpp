@@ -8,8 +8,8 @@
 
 #include "common/cli.hpp"
 #include "common/frame_options.hpp"
-#include "common/json_output.hpp"
 #include "common/progress.hpp"
+#include "multimodal_nvs/core/common/json_output.hpp"
 #include "multimodal_nvs/core/synthetic/dataset.hpp"
 
 namespace mm = multimodal_nvs;
@@ -82,8 +82,8 @@ void declareOptions(CLI::App& app, Options& o) {
   app.add_option("--radar-angle-sigma", o.radar_angle_sigma,
                  "radar azimuth and elevation noise (deg)")
       ->expected(2)
-      ->default_str(mm::cli::number(p.radar.azimuth_sigma_deg).dump() + " " +
-                    mm::cli::number(p.radar.elevation_sigma_deg).dump())
+      ->default_str(mm::json::number(p.radar.azimuth_sigma_deg).dump() + " " +
+                    mm::json::number(p.radar.elevation_sigma_deg).dump())
       ->check(mm::cli::atLeast(0))
       ->group(sensors);
   app.add_option("--radar-clutter", p.radar.clutter_fraction,
@@ -163,14 +163,14 @@ int run(int argc, char** argv) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto& size = dataset.camera().size;
-  const mm::cli::Json json = {{"output", root},
-                              {"frames", p.frames},
-                              {"first_frame", p.first_frame},
-                              {"seed", p.seed},
-                              {"width", size.width},
-                              {"height", size.height},
-                              {"seconds", mm::cli::number(seconds, 6)}};
-  std::cout << mm::cli::oneLine(json) << std::endl;
+  const mm::json::Json json = {{"output", root},
+                               {"frames", p.frames},
+                               {"first_frame", p.first_frame},
+                               {"seed", p.seed},
+                               {"width", size.width},
+                               {"height", size.height},
+                               {"seconds", mm::json::number(seconds, 6)}};
+  std::cout << mm::json::oneLine(json) << std::endl;
   return 0;
 }
 

@@ -18,12 +18,13 @@
 
 #include "common/cli.hpp"
 #include "common/frame_options.hpp"
-#include "common/json_output.hpp"
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/json_output.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/eval/image_metrics.hpp"
+#include "multimodal_nvs/core/eval/nvs_metrics.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
@@ -193,66 +194,14 @@ RecordedInput recordedInputFrom(const Options& o) {
   return in;
 }
 
-struct FrameMetrics {
-  int frame = 0;
-  std::string gt;
-  double psnr = 0, ssim = 0, covered_psnr = 0, coverage = 0;
-};
-
-/// Mean over the finite values only: a frame reproduced exactly (the reference view) has an
-/// infinite PSNR over its covered pixels, which no mean can include.
-double finiteMean(const std::vector<FrameMetrics>& rows, double FrameMetrics::*field,
-                  bool skip_first) {
-  double sum = 0;
-  int n = 0;
-  for (std::size_t i = skip_first ? 1 : 0; i < rows.size(); ++i) {
-    if (std::isfinite(rows[i].*field)) {
-      sum += rows[i].*field;
-      ++n;
-    }
-  }
-  return n > 0 ? sum / n : std::numeric_limits<double>::quiet_NaN();
-}
-
-std::string metricsJson(const std::vector<FrameMetrics>& rows, const std::string& splat) {
-  mm::cli::Json frames = mm::cli::Json::array();
-  for (const FrameMetrics& r : rows) {
-    frames.push_back({{"frame", r.frame},
-                      {"gt", r.gt},
-                      {"psnr", mm::cli::number(r.psnr)},
-                      {"ssim", mm::cli::number(r.ssim)},
-                      {"covered_psnr", mm::cli::number(r.covered_psnr)},
-                      {"coverage", mm::cli::number(r.coverage)}});
-  }
-  mm::cli::Json out = {
-      {"protocol",
-       "REFERENCE.md section 5: GT resized to the render size (bilinear), uint8 RGB; psnr/ssim on "
-       "the preview (hole-filled, unlabelled) frames; covered_psnr and coverage on the raw "
-       "conditioning frames; means skip non-finite values (null here = +inf: an exactly "
-       "reproduced frame)"},
-      {"splat", splat},
-      {"frames", frames}};
-  for (int skip = 0; skip < 2; ++skip) {
-    auto mean = [&](double FrameMetrics::*field) {
-      return mm::cli::number(finiteMean(rows, field, skip != 0));
-    };
-    out[skip ? "mean_without_reference" : "mean"] = {
-        {"psnr", mean(&FrameMetrics::psnr)},
-        {"ssim", mean(&FrameMetrics::ssim)},
-        {"covered_psnr", mean(&FrameMetrics::covered_psnr)},
-        {"coverage", mean(&FrameMetrics::coverage)}};
-  }
-  return mm::cli::document(out);
-}
-
 std::string camerasJson(const mm::Trajectory& traj, const std::string& source) {
-  auto number = [](double v) { return mm::cli::number(v, 12); };
-  mm::cli::Json frames = mm::cli::Json::array();
+  auto number = [](double v) { return mm::json::number(v, 12); };
+  mm::json::Json frames = mm::json::Json::array();
   for (std::size_t i = 0; i < traj.cameras.size(); ++i) {
     const mm::TargetCamera& cam = traj.cameras[i];
-    mm::cli::Json w2c = mm::cli::Json::array();
+    mm::json::Json w2c = mm::json::Json::array();
     for (int r = 0; r < 4; ++r) {
-      mm::cli::Json row = mm::cli::Json::array();
+      mm::json::Json row = mm::json::Json::array();
       for (int c = 0; c < 4; ++c)
         row.push_back(number(cam.world_to_camera(r, c)));
       w2c.push_back(row);
@@ -263,7 +212,7 @@ std::string camerasJson(const mm::Trajectory& traj, const std::string& source) {
          {"w2c", w2c},
          {"K", {{number(k.fx), 0, number(k.cx)}, {0, number(k.fy), number(k.cy)}, {0, 0, 1}}}});
   }
-  const mm::cli::Json out = {
+  const mm::json::Json out = {
       {"convention",
        "w2c maps the reference camera frame (OpenCV axes) to each target camera; K is at the "
        "render size"},
@@ -271,7 +220,7 @@ std::string camerasJson(const mm::Trajectory& traj, const std::string& source) {
       {"size", {traj.size.height, traj.size.width}},
       {"recorded_frames", traj.recorded_frames},
       {"frames", frames}};
-  return mm::cli::document(out);
+  return mm::json::document(out);
 }
 
 void writePng(const std::string& path, const cv::Mat& image) {
@@ -384,7 +333,7 @@ int run(int argc, char** argv) {
     const double magnitude = o.magnitude;
     trajectory = mm::presetTrajectory(preset, magnitude, num_frames, k_target, render_size,
                                       cloud.medianDepth());
-    source = "preset " + mm::toString(preset) + " " + mm::cli::number(magnitude).dump() + " " +
+    source = "preset " + mm::toString(preset) + " " + mm::json::number(magnitude).dump() + " " +
              mm::magnitudeUnit(preset);
     if (!o.gt.empty()) throw mm::cli::UsageError("--gt needs a recorded trajectory, not a preset");
   } else {
@@ -407,7 +356,7 @@ int run(int argc, char** argv) {
   const std::string& output = o.output;
   for (const char* sub : {"frames", "masks", "preview"})
     mm::makeDirectories(output + "/" + sub);
-  mm::cli::writeTextFile(output + "/cameras.json", camerasJson(trajectory, source));
+  mm::json::writeTextFile(output + "/cameras.json", camerasJson(trajectory, source));
   std::string video_path, video_codec;
   cv::VideoWriter video = openPreviewVideo(
       output, o.fps, cv::Size(render_size.width, render_size.height), video_path, video_codec);
@@ -428,7 +377,7 @@ int run(int argc, char** argv) {
 
   mm::PointSplatter splatter(o.threads);
   mm::ThreadPool io_pool(splatter.threads());
-  std::vector<FrameMetrics> metrics;
+  std::vector<mm::NvsFrameMetrics> metrics;
   double min_coverage = 1.0;
   const auto t_all = std::chrono::steady_clock::now();
   // A chunk at a time: its PNGs and metrics in parallel, then video and export in frame order.
@@ -438,22 +387,16 @@ int run(int argc, char** argv) {
       [&](int first, const std::vector<mm::RenderedFrame>& frames) {
         const int count = static_cast<int>(frames.size());
         std::vector<cv::Mat> previews(static_cast<std::size_t>(count));
-        std::vector<FrameMetrics> chunk_metrics(static_cast<std::size_t>(count));
+        std::vector<mm::NvsFrameMetrics> chunk_metrics(static_cast<std::size_t>(count));
         io_pool.parallelFor(count, [&](long long i, int) {
           const int index = first + static_cast<int>(i);
           const mm::RenderedFrame& f = frames[static_cast<std::size_t>(i)];
           cv::Mat preview = mm::fillHolesPushPull(f.bgr, f.mask);
           const std::string& gt_path = gt_of_frame[static_cast<std::size_t>(index)];
           if (!gt_path.empty()) {
-            cv::Mat gt;
-            cv::resize(readImage(gt_path), gt, preview.size(), 0, 0, cv::INTER_LINEAR);
-            FrameMetrics& m = chunk_metrics[static_cast<std::size_t>(i)];
-            m.frame = index;
-            m.gt = gt_path;
-            m.psnr = mm::psnr(preview, gt);
-            m.ssim = mm::ssim(preview, gt);
-            m.covered_psnr = mm::coveredPsnr(f.bgr, gt, f.mask);
-            m.coverage = mm::coverage(f.mask);
+            chunk_metrics[static_cast<std::size_t>(i)] =
+                mm::nvsFrameMetrics(index, gt_path, f, preview,
+                                    mm::groundTruthAtRenderSize(readImage(gt_path), render_size));
           }
           mm::drawPreviewLabel(preview);
           writePng(output + "/frames/" + frameName(index) + ".png", f.bgr);
@@ -476,15 +419,15 @@ int run(int argc, char** argv) {
   if (gen3c) gen3c->finish();
   progress.finish();
   if (!metrics.empty())
-    mm::cli::writeTextFile(output + "/metrics.json",
-                           metricsJson(metrics, mm::toString(splat.mode)));
+    mm::json::writeTextFile(output + "/metrics.json",
+                            mm::nvsMetricsJson(metrics, mm::toString(splat.mode)));
   const double total_ms = mm::millisecondsSince(t_all);
 
-  const double mean_psnr = finiteMean(metrics, &FrameMetrics::psnr, false);
-  const double mean_ssim = finiteMean(metrics, &FrameMetrics::ssim, false);
-  const double mean_cov_psnr = finiteMean(metrics, &FrameMetrics::covered_psnr, false);
-  const double mean_cov = finiteMean(metrics, &FrameMetrics::coverage, false);
-  mm::cli::Json json = {
+  const double mean_psnr = mm::finiteMean(metrics, &mm::NvsFrameMetrics::psnr, false);
+  const double mean_ssim = mm::finiteMean(metrics, &mm::NvsFrameMetrics::ssim, false);
+  const double mean_cov_psnr = mm::finiteMean(metrics, &mm::NvsFrameMetrics::covered_psnr, false);
+  const double mean_cov = mm::finiteMean(metrics, &mm::NvsFrameMetrics::coverage, false);
+  mm::json::Json json = {
       {"frames", num_frames},
       {"size", {render_size.height, render_size.width}},
       {"splat", mm::toString(splat.mode)},
@@ -493,22 +436,22 @@ int run(int argc, char** argv) {
       {"depth_stride", grid.stride},
       {"resized_to_render", prep.resize_to_render},
       {"threads", splatter.threads()},
-      {"cloud_ms", mm::cli::number(cloud_ms)},
-      {"render_ms", mm::cli::number(stats.render_ms)},
-      {"total_ms", mm::cli::number(total_ms)},
-      {"min_coverage", mm::cli::number(min_coverage)},
-      {"video", video_path.empty() ? mm::cli::Json() : mm::cli::Json(video_path)},
-      {"video_codec", video_codec.empty() ? mm::cli::Json() : mm::cli::Json(video_codec)},
-      {"gen3c", gen3c ? mm::cli::Json(output + "/gen3c") : mm::cli::Json()}};
+      {"cloud_ms", mm::json::number(cloud_ms)},
+      {"render_ms", mm::json::number(stats.render_ms)},
+      {"total_ms", mm::json::number(total_ms)},
+      {"min_coverage", mm::json::number(min_coverage)},
+      {"video", video_path.empty() ? mm::json::Json() : mm::json::Json(video_path)},
+      {"video_codec", video_codec.empty() ? mm::json::Json() : mm::json::Json(video_codec)},
+      {"gen3c", gen3c ? mm::json::Json(output + "/gen3c") : mm::json::Json()}};
   if (!metrics.empty()) {
     json["metrics"] = {{"gt_frames", metrics.size()},
-                       {"psnr", mm::cli::number(mean_psnr)},
-                       {"ssim", mm::cli::number(mean_ssim)},
-                       {"covered_psnr", mm::cli::number(mean_cov_psnr)},
-                       {"coverage", mm::cli::number(mean_cov)}};
+                       {"psnr", mm::json::number(mean_psnr)},
+                       {"ssim", mm::json::number(mean_ssim)},
+                       {"covered_psnr", mm::json::number(mean_cov_psnr)},
+                       {"coverage", mm::json::number(mean_cov)}};
   }
   json["output"] = output;
-  std::cout << mm::cli::oneLine(json) << std::endl;
+  std::cout << mm::json::oneLine(json) << std::endl;
   return 0;
 }
 

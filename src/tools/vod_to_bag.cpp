@@ -44,9 +44,9 @@
 
 #include "common/cli.hpp"
 #include "common/frame_options.hpp"
-#include "common/json_output.hpp"
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/json_output.hpp"
 #include "multimodal_nvs/core/io/camera_info_yaml.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
@@ -440,18 +440,18 @@ int run(int argc, char** argv) {
   cleanup.done = true;
   progress.finish();
 
-  mm::cli::Json messages = mm::cli::Json::object();
+  mm::json::Json messages = mm::json::Json::object();
   for (const auto& [topic, count] : bag.counts())
     messages[topic] = count;
-  const mm::cli::Json json = {{"bag", o.output},
-                              {"frames", total},
-                              {"first_frame", frames.begin()->first},
-                              {"last_frame", frames.rbegin()->first},
-                              {"start_time", mm::cli::number(o.start_time, 6)},
-                              {"rate", mm::cli::number(o.rate, 6)},
-                              {"world_frame", o.world_frame},
-                              {"messages", messages}};
-  std::cout << mm::cli::oneLine(json) << std::endl;
+  const mm::json::Json json = {{"bag", o.output},
+                               {"frames", total},
+                               {"first_frame", frames.begin()->first},
+                               {"last_frame", frames.rbegin()->first},
+                               {"start_time", mm::json::number(o.start_time, 6)},
+                               {"rate", mm::json::number(o.rate, 6)},
+                               {"world_frame", o.world_frame},
+                               {"messages", messages}};
+  std::cout << mm::json::oneLine(json) << std::endl;
   return 0;
 }
 

@@ -26,6 +26,8 @@
 #include <string>
 #include <vector>
 
+#include "child_processes.hpp"
+
 #ifndef MMNVS_TOOL_DIR
 #error "MMNVS_TOOL_DIR must point at the devel space's lib/multimodal_nvs"
 #endif
@@ -37,6 +39,9 @@ using sensor_msgs::Image;
 using sensor_msgs::PointCloud2;
 
 namespace {
+
+using rostest_helpers::run;
+using rostest_helpers::spawn;
 
 constexpr int kFrames = 4;
 const std::set<ros::Time> kBagStamps = {ros::Time(1.0), ros::Time(1.1), ros::Time(1.2),
@@ -58,27 +63,6 @@ ros::Subscriber collect(ros::NodeHandle& nh, const std::string& topic, Outputs& 
     std::lock_guard<std::mutex> lock(outputs.mutex);
     (outputs.*slot).push_back(msg);
   });
-}
-
-/// Runs a command line through the shell; true on exit status 0.
-bool run(const std::string& command) {
-  const int status = std::system(command.c_str());
-  return status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
-
-/// Starts argv as a child process (PATH lookup); its pid, or -1.
-pid_t spawn(const std::vector<std::string>& argv) {
-  std::vector<char*> args;
-  for (const std::string& a : argv)
-    args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const pid_t pid = fork();
-  if (pid == 0) {
-    setpgid(0, 0);  // its own group, so that teardown can stop rosbag and its play binary
-    execvp(args[0], args.data());
-    _exit(127);
-  }
-  return pid;
 }
 
 float floatAt(const Image& image, std::size_t row, std::size_t col) {

@@ -1,9 +1,11 @@
-// The renderer nodelet's per-frame steps: which set becomes the keyframe, when the live view or
-// the preset burst is rendered and published, and what a dropped set or a missing keyframe
-// reports. Plain gtest, no master: tf and the publishers are stand-ins.
+// The renderer nodelet's per-frame steps: which set becomes the keyframe, when the live view (per
+// camera image) or the preset burst is rendered and published, what a dropped set, a missing tf or
+// a missing keyframe reports, and how the recorded-trajectory export collects its poses. Plain
+// gtest, no master: tf and the publishers are stand-ins.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <set>
 
 #include "multimodal_nvs/ros/preset_burst.hpp"
 #include "multimodal_nvs/ros/renderer_session.hpp"
@@ -49,15 +51,17 @@ struct Node {
   bool tf_available = true;
   std::vector<std::string> pose_lookups;  ///< "world <- frame" per lookup
   std::vector<int> engine_requests;       ///< thread counts asked for
+  std::set<ros::Time> missing_tf;         ///< stamps without a transform
   std::vector<ros::Time> published;
   std::vector<mm::ImageSize> published_sizes;
+  std::vector<std::size_t> views_published;  ///< views per burst on tf
   mm::PointSplatter splatter{1};
 
   mm::RendererSession session() {
     return mm::RendererSession(mm::RendererSessionIo{
         [this](const std::string& world, const std_msgs::Header& header, Eigen::Matrix4d& pose) {
           pose_lookups.push_back(world + " <- " + header.frame_id);
-          if (!tf_available) {
+          if (!tf_available || missing_tf.count(header.stamp)) {
             return rc::RendererStatus::failure(rc::RendererFault::kTransformUnavailable, "no tf");
           }
           pose = Eigen::Matrix4d::Identity();
@@ -72,6 +76,9 @@ struct Node {
                const std_msgs::Header& header) {
           published.push_back(header.stamp);
           published_sizes.push_back(size);
+        },
+        [this](const mm::Trajectory& views, const std_msgs::Header&) {
+          views_published.push_back(views.cameras.size());
         }});
   }
 };
@@ -82,6 +89,10 @@ class RendererSessionTest : public ::testing::Test {
   mm::RendererStep step(const Set& set, const mm::ConditioningRendererSettings& s) {
     return session.onInputSet(set.image, set.depth, set.mask, set.info, s,
                               std::chrono::steady_clock::now());
+  }
+  /// One camera image (the set's image) stamped `stamp` that arrived now.
+  mm::RendererStep camera(ros::Time stamp, const mm::ConditioningRendererSettings& s) {
+    return session.onCameraImage(stampedSet(stamp).image, s, std::chrono::steady_clock::now());
   }
   /// The first set, stamped 10 s: always the keyframe.
   mm::RendererStep firstKeyframe(const mm::ConditioningRendererSettings& s) {
@@ -96,23 +107,54 @@ class RendererSessionTest : public ::testing::Test {
 
 }  // namespace
 
-TEST_F(RendererSessionTest, TfModeTakesTheFirstSetAsKeyframeAndRendersEverySet) {
+TEST_F(RendererSessionTest, TfModeRendersEveryCameraImageFromTheKeyframe) {
   const auto s = settings(mm::TrajectorySource::kTf);
+  // The camera is faster than the depth nodelet: two images arrive before their keyframe.
+  EXPECT_TRUE(camera(ros::Time(10, 0), s).live_frames.empty());
+  EXPECT_TRUE(camera(ros::Time(10, 100000000), s).live_frames.empty());
+  EXPECT_TRUE(node.published.empty());
   const mm::RendererStep first = firstKeyframe(s);
   EXPECT_EQ(first.keyframe_points, 6u * 8u - 1u);  // every grid pixel but the NaN one
-  EXPECT_TRUE(first.live_frame);
-  EXPECT_GE(first.frame_ms, first.render_ms);
+  ASSERT_EQ(first.live_frames.size(), 2u);         // both waiting images, in order
+  EXPECT_GE(first.live_frames[0].frame_ms, first.live_frames[0].render_ms);
   EXPECT_FALSE(first.burst);
   EXPECT_TRUE(first.error.empty());
 
-  const mm::RendererStep second = step(stampedSet(ros::Time(10, 100000000)), s);
-  EXPECT_FALSE(second.keyframe);  // interval 0: the keyframe stays
-  EXPECT_TRUE(second.live_frame);
-  EXPECT_EQ(node.pose_lookups, (std::vector<std::string>{"map <- cam", "map <- cam"}));
-  EXPECT_EQ(node.engine_requests, (std::vector<int>{1, 1}));
-  // Each live frame carries its own set's header, at the render size.
-  EXPECT_EQ(node.published, (std::vector<ros::Time>{ros::Time(10, 0), ros::Time(10, 100000000)}));
+  // Camera images without a depth set are rendered from the keyframe as they come.
+  const mm::RendererStep next = camera(ros::Time(10, 200000000), s);
+  EXPECT_EQ(next.live_frames.size(), 1u);
+  // A depth set that is no keyframe (interval 0) renders nothing by itself.
+  const mm::RendererStep set = step(stampedSet(ros::Time(10, 200000000)), s);
+  EXPECT_FALSE(set.keyframe);
+  EXPECT_TRUE(set.live_frames.empty());
+  // Each live frame carries its camera image's header, at the render size.
+  EXPECT_EQ(node.published, (std::vector<ros::Time>{ros::Time(10, 0), ros::Time(10, 100000000),
+                                                    ros::Time(10, 200000000)}));
   EXPECT_EQ(node.published_sizes.back(), (mm::ImageSize{12, 16}));
+  EXPECT_TRUE(node.views_published.empty());  // live frames are real camera poses
+}
+
+TEST_F(RendererSessionTest, TfModeMissingTransformDropsThatCameraImageOnly) {
+  const auto s = settings(mm::TrajectorySource::kTf);
+  firstKeyframe(s);
+  node.missing_tf.insert(ros::Time(10, 100000000));
+  const mm::RendererStep dropped = camera(ros::Time(10, 100000000), s);
+  EXPECT_EQ(dropped.fault.fault, rc::RendererFault::kTransformUnavailable);
+  EXPECT_TRUE(dropped.live_frames.empty());
+  EXPECT_EQ(camera(ros::Time(10, 200000000), s).live_frames.size(), 1u);
+  EXPECT_EQ(node.published, (std::vector<ros::Time>{ros::Time(10, 200000000)}));
+}
+
+TEST_F(RendererSessionTest, CameraImagesOlderThanTheKeyframeWaitForTheNextOne) {
+  const auto s = settings(mm::TrajectorySource::kTf);
+  firstKeyframe(s);
+  EXPECT_EQ(camera(ros::Time(10, 0), s).live_frames.size(), 1u);
+  // A bag loop: the camera goes back in time; the keyframe (from the future) is not used.
+  EXPECT_TRUE(camera(ros::Time(5, 0), s).live_frames.empty());
+  const mm::RendererStep looped = step(stampedSet(ros::Time(5, 0)), s);
+  expectNewKeyframe(looped, ros::Time(5, 0));
+  EXPECT_EQ(looped.live_frames.size(), 1u);
+  EXPECT_EQ(node.published.back(), ros::Time(5, 0));
 }
 
 TEST_F(RendererSessionTest, TfModeWithoutTransformDropsTheSetAndTakesNoKeyframe) {
@@ -121,7 +163,7 @@ TEST_F(RendererSessionTest, TfModeWithoutTransformDropsTheSetAndTakesNoKeyframe)
   const mm::RendererStep dropped = step(stampedSet(ros::Time(10, 0)), s);
   EXPECT_EQ(dropped.fault.fault, rc::RendererFault::kTransformUnavailable);
   EXPECT_FALSE(dropped.keyframe);
-  EXPECT_FALSE(dropped.live_frame);
+  EXPECT_TRUE(dropped.live_frames.empty());
   EXPECT_TRUE(node.published.empty());
   EXPECT_TRUE(node.engine_requests.empty());
   // The keyframe is still due: the next set with a transform becomes it.
@@ -134,8 +176,9 @@ TEST_F(RendererSessionTest, PresetModeRendersTheBurstOnANewKeyframeOnly) {
   const auto s = settings(mm::TrajectorySource::kPreset);
   const mm::RendererStep first = firstKeyframe(s);
   EXPECT_TRUE(first.burst) << first.error;
-  EXPECT_FALSE(first.live_frame);
+  EXPECT_TRUE(first.live_frames.empty());
   EXPECT_EQ(first.burst_frames, 3);
+  EXPECT_EQ(node.views_published, (std::vector<std::size_t>{3}));
   EXPECT_EQ(first.report, mm::burstReport(s, first.burst_ms, ""));
   EXPECT_TRUE(first.warning.empty());  // no export
   EXPECT_EQ(node.published.size(), 3u);
@@ -144,7 +187,8 @@ TEST_F(RendererSessionTest, PresetModeRendersTheBurstOnANewKeyframeOnly) {
   // Between keyframes a set is only checked: nothing rendered, a bad one still reported.
   const mm::RendererStep between = step(stampedSet(ros::Time(10, 500000000)), s);
   EXPECT_TRUE(between.fault.ok());
-  EXPECT_FALSE(between.keyframe || between.burst || between.live_frame);
+  EXPECT_FALSE(between.keyframe || between.burst || !between.live_frames.empty());
+  EXPECT_TRUE(camera(ros::Time(10, 500000000), s).live_frames.empty());  // no live view
   Set bad = stampedSet(ros::Time(10, 600000000));
   bad.image.height = 40;  // the depth grid is no stride grid of it any more
   bad.image.data.resize(40 * 16 * 3);
@@ -179,4 +223,65 @@ TEST_F(RendererSessionTest, BurstNeedsAKeyframeWithPoints) {
   const mm::RendererStep again = session.renderBurst(s);
   EXPECT_TRUE(again.burst) << again.error;
   EXPECT_EQ(node.published.size(), 6u);
+}
+
+TEST_F(RendererSessionTest, ExportCollectsTheCameraPosesAfterANewKeyframe) {
+  const auto s = settings(mm::TrajectorySource::kTf);
+  using Stage = mm::RecordedPoseCollector::Stage;
+  firstKeyframe(s);
+  camera(ros::Time(10, 0), s);
+  mm::RecordedExportRequest request;
+  request.num_poses = 3;
+  request.num_frames = 5;
+  request.output_dir = "/unused";
+  ASSERT_FALSE(session.startExport(request));
+  EXPECT_EQ(session.exportCollector().stage(), Stage::kWaitingForKeyframe);
+  // The next set is due (the export asked for a keyframe); its image arrived first.
+  camera(ros::Time(11, 0), s);
+  expectNewKeyframe(step(stampedSet(ros::Time(11, 0)), s), ros::Time(11, 0));
+  EXPECT_EQ(session.exportCollector().stage(), Stage::kCollecting);
+  EXPECT_EQ(session.exportCollector().collected(), 1);
+  mm::RecordedExportJob job;
+  EXPECT_FALSE(session.takeExportJob(s, job));
+  camera(ros::Time(11, 100000000), s);
+  camera(ros::Time(11, 200000000), s);
+  EXPECT_EQ(session.exportCollector().stage(), Stage::kComplete);
+  ASSERT_TRUE(session.takeExportJob(s, job));
+  EXPECT_EQ(session.exportCollector().stage(), Stage::kIdle);
+  EXPECT_EQ(job.poses.stamps, (std::vector<ros::Time>{ros::Time(11, 0), ros::Time(11, 100000000),
+                                                      ros::Time(11, 200000000)}));
+  ASSERT_EQ(job.poses.ground_truth.size(), 3u);
+  for (const cv::Mat& gt : job.poses.ground_truth)
+    EXPECT_EQ(gt.size(), cv::Size(16, 12));
+  EXPECT_EQ(job.keyframe.header.stamp, ros::Time(11, 0));
+  EXPECT_EQ(job.cloud.size(), 6u * 8u - 1u);
+}
+
+TEST_F(RendererSessionTest, ExportAbortsOnABagLoopOrAMissingTransform) {
+  const auto s = settings(mm::TrajectorySource::kTf);
+  using Stage = mm::RecordedPoseCollector::Stage;
+  mm::RecordedExportRequest request;
+  request.output_dir = "/unused";
+  ASSERT_FALSE(session.startExport(request));
+  firstKeyframe(s);
+  camera(ros::Time(10, 100000000), s);
+  EXPECT_EQ(session.exportCollector().collected(), 2);
+  camera(ros::Time(9, 0), s);  // the bag looped
+  EXPECT_EQ(session.exportCollector().stage(), Stage::kAborted);
+  EXPECT_NE(session.exportCollector().abortReason().find("bag loop"), std::string::npos);
+  session.resetExport();
+
+  ASSERT_FALSE(session.startExport(request));
+  expectNewKeyframe(step(stampedSet(ros::Time(20, 0)), s), ros::Time(20, 0));
+  node.missing_tf.insert(ros::Time(20, 100000000));
+  EXPECT_EQ(camera(ros::Time(20, 100000000), s).fault.fault,
+            rc::RendererFault::kTransformUnavailable);
+  EXPECT_EQ(session.exportCollector().stage(), Stage::kAborted);
+  EXPECT_NE(session.exportCollector().abortReason().find("no camera pose"), std::string::npos);
+}
+
+TEST_F(RendererSessionTest, ExportNeedsAnOutputDirectory) {
+  mm::RecordedExportRequest request;
+  EXPECT_TRUE(session.startExport(request));
+  EXPECT_EQ(session.exportCollector().stage(), mm::RecordedPoseCollector::Stage::kIdle);
 }

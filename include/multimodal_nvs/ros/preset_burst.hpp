@@ -36,6 +36,7 @@ struct PresetBurstResult {
   bool ok = false;
   std::string gen3c_folder;  ///< where the export went; empty without export_dir
   std::string error;         ///< why the burst failed, when !ok
+  Trajectory trajectory;     ///< the rendered views, when ok
 };
 
 /// Renders settings.preset from `keyframe` (its `cloud` for the settings), hands every frame in

@@ -1,13 +1,14 @@
 #pragma once
-// The tools' JSON output on nlohmann-json (Debian's nlohmann-json3-dev): values are built as
-// ordered_json (keys in insertion order); the text layout is Python's json.dumps style, which
-// nlohmann's dump() cannot produce (it has no ", " / ": " separators), so that the figures the
-// tools printed before keep their exact text and the scripts and people diffing them see no churn.
+// JSON output of the tools and the renderer's exports on nlohmann-json (Debian's
+// nlohmann-json3-dev): values are built as ordered_json (keys in insertion order); the text layout
+// is Python's json.dumps style, which nlohmann's dump() cannot produce (it has no ", " / ": "
+// separators), so that the figures the tools printed before keep their exact text and the scripts
+// and people diffing them see no churn.
 #include <nlohmann/json.hpp>
 #include <string>
 
 namespace multimodal_nvs {
-namespace cli {
+namespace json {
 
 using Json = nlohmann::ordered_json;
 
@@ -25,5 +26,5 @@ std::string document(const Json& value);
 /// Writes `text` to `path`; throws InputError with the OS reason when it cannot.
 void writeTextFile(const std::string& path, const std::string& text);
 
-}  // namespace cli
+}  // namespace json
 }  // namespace multimodal_nvs

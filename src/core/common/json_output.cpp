@@ -1,4 +1,4 @@
-#include "json_output.hpp"
+#include "multimodal_nvs/core/common/json_output.hpp"
 
 #include <cerrno>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
-namespace cli {
+namespace json {
 
 Json number(double v, int digits) {
   if (!std::isfinite(v)) return nullptr;
@@ -100,5 +100,5 @@ void writeTextFile(const std::string& path, const std::string& text) {
   if (!out) throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
 }
 
-}  // namespace cli
+}  // namespace json
 }  // namespace multimodal_nvs
