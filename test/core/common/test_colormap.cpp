@@ -42,13 +42,14 @@ TEST(ColorScale, RejectsAnEmptyOrNonFiniteRange) {
 }
 
 TEST(ColorizeWithScaleBar, DrawsHiddenPixelsGreyAndAppendsTheBar) {
-  cv::Mat values(4, 6, CV_32FC1, cv::Scalar(2.0f));
+  // At least 40 rows: the bar keeps a 20-pixel margin above and below.
+  cv::Mat values(64, 96, CV_32FC1, cv::Scalar(2.0f));
   values.at<float>(1, 1) = std::numeric_limits<float>::quiet_NaN();
-  cv::Mat valid(4, 6, CV_8UC1, cv::Scalar(1));
+  cv::Mat valid(64, 96, CV_8UC1, cv::Scalar(1));
   valid.at<uchar>(2, 3) = 0;
   const cv::Mat canvas = mm::colorizeWithScaleBar(values, valid, 0.0, 4.0, "m");
-  ASSERT_EQ(canvas.rows, 4);
-  EXPECT_GT(canvas.cols, 6);
+  ASSERT_EQ(canvas.rows, 64);
+  EXPECT_GT(canvas.cols, 96);
   EXPECT_EQ(canvas.at<cv::Vec3b>(1, 1), cv::Vec3b(40, 40, 40));
   EXPECT_EQ(canvas.at<cv::Vec3b>(2, 3), cv::Vec3b(40, 40, 40));
   EXPECT_EQ(canvas.at<cv::Vec3b>(0, 0), mm::ColorScale(0.0, 4.0, cv::COLORMAP_JET)(2.0f));
