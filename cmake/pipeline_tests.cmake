@@ -17,10 +17,13 @@ add_dependencies(test_pipeline ${PROJECT_NAME}_generate_messages_cpp
   ${MMNVS_PIPELINE_TEST_DEPENDENCIES})
 add_rostest(test/ros/pipeline.test ARGS sensor:=lidar
   DEPENDENCIES test_pipeline ${MMNVS_PIPELINE_TEST_DEPENDENCIES})
+# LiDAR through pcl_ros's CropBox and VoxelGrid nodelets in the same manager.
+add_rostest(test/ros/pipeline.test ARGS sensor:=lidar pcl:=true
+  DEPENDENCIES test_pipeline ${MMNVS_PIPELINE_TEST_DEPENDENCIES})
 
 # The launch files with their defaults, and with other arguments through a launch file that
 # includes them (roslaunch-check passes no launch arguments). demo.launch's bag defaults to
-# demo_output/scene.bag (what `make demo` writes); the check does not need the file.
+# ./demo_output/scene.bag (what `make demo` writes); the check does not need the file.
 roslaunch_add_file_check(launch/pipeline.launch USE_TEST_DEPENDENCIES)
 roslaunch_add_file_check(launch/demo.launch USE_TEST_DEPENDENCIES)
 roslaunch_add_file_check(test/ros/pipeline_launch_variants.launch USE_TEST_DEPENDENCIES)
@@ -36,3 +39,14 @@ target_compile_definitions(test_renderer_vod PRIVATE
   MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}")
 add_dependencies(test_renderer_vod ${PROJECT_NAME}_generate_messages_cpp
   ${MMNVS_PIPELINE_TEST_DEPENDENCIES} render_conditioning)
+
+# rviz with rviz/multimodal_nvs.rviz under Xvfb, the demo pipeline playing a short synthetic bag:
+# the depth and standard-deviation panels of a screenshot must show their colour images
+# (scripts/rviz_screenshot.sh; 1m43 measured at load average 38, at most RVIZ_WAIT 90 s of polling).
+catkin_add_gtest(test_rviz_screenshot test/ros/test_rviz_screenshot.cpp
+  WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
+target_include_directories(test_rviz_screenshot PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
+target_link_libraries(test_rviz_screenshot ${GTEST_MAIN_LIBRARIES})
+target_compile_definitions(test_rviz_screenshot PRIVATE
+  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+add_dependencies(test_rviz_screenshot ${MMNVS_PIPELINE_TEST_DEPENDENCIES})

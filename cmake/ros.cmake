@@ -32,5 +32,10 @@ endforeach()
 install(TARGETS multimodal_nvs_ros multimodal_nvs_nodelets
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
-install(FILES nodelet_plugins.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
-install(DIRECTORY launch config cfg DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+install(FILES nodelet_plugins.xml pcl_ros_filters.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+# What the launch files find through $(find multimodal_nvs) in the install space as in the source
+# tree: the launch files, parameter files and rviz layout; the player's wrapper script goes with
+# the executables (roslaunch resolves $(find multimodal_nvs)/scripts/X to lib/multimodal_nvs/X
+# there, and to the source tree's scripts/X in the devel space).
+install(DIRECTORY cfg config launch rviz DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+install(PROGRAMS scripts/run_then_linger.sh DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

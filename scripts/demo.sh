@@ -10,7 +10,8 @@
 # <repo>/demo_output), DEMO_SCALE (synthetic image scale, 0.5), DEMO_SENSOR (radar|lidar, radar),
 # DEMO_RETAIN (retention percent, 80), DEMO_GEN3C_SIZE ("H W" of the conditioning renders and
 # the GEN3C export; default see below), DEMO_THREADS (0 = all cores), DEMO_ROS (0 skips the ROS
-# stage), DEMO_ROS_RATE (bag playback rate, 1), DEMO_ROS_PORT (master port; default a free one).
+# stage), DEMO_ROS_RATE (bag playback rate, 1), DEMO_ROS_PORT (master port; default a free one),
+# DEMO_RVIZ (0 skips the rviz screenshot).
 #
 # Stages run in the order of STAGES below; each is a function stage_<name> that prints one
 # progress line and logs to demo_output/logs/<name>.log. To add a stage (e.g. playing the bag
@@ -34,7 +35,7 @@ SENSOR=${DEMO_SENSOR:-radar}
 RETAIN=${DEMO_RETAIN:-80}
 THREADS=${DEMO_THREADS:-0}
 
-STAGES=(scene bag ros depth render report)
+STAGES=(scene bag ros rviz depth render report)
 
 # --- where the data comes from -------------------------------------------------------------
 if [[ -n "${DATA:-}" ]]; then
@@ -181,6 +182,30 @@ stage_ros() {
     --out "$ROS_OUT" --frames $((LAST - FIRST + 1)) --sensor "$SENSOR"
 }
 
+describe_rviz() {
+  if [[ "${DEMO_ROS:-1}" == 0 || "${DEMO_RVIZ:-1}" == 0 ]]; then
+    echo "DEMO_ROS=0 or DEMO_RVIZ=0: skipped"
+  else
+    echo "rviz under Xvfb (scripts/rviz_screenshot.sh): screenshot of depth and uncertainty"
+  fi
+}
+stage_rviz() {
+  [[ "${DEMO_ROS:-1}" != 0 && "${DEMO_RVIZ:-1}" != 0 ]] || return 3
+  set +u
+  # shellcheck disable=SC1091
+  source "$DEVEL/setup.bash"
+  set -u
+  local params=""
+  [[ -n "${DATA:-}" ]] || params="$REPO/config/demo_synthetic.yaml"
+  mkdir -p "$ROS_OUT/rviz"
+  # A blank panel or a failed rviz start is reported (here and in the report), not fatal: the rest
+  # of the demo does not depend on it; make test's test_rviz_screenshot fails on it.
+  "$REPO/scripts/rviz_screenshot.sh" "$BAG" "$ROS_OUT/rviz/rviz.png" sensor:="$SENSOR" \
+    params:="$params" > "$ROS_OUT/rviz/shares.txt" 2>&1 ||
+    echo "rviz_screenshot.sh failed (exit $?); see below"
+  cat "$ROS_OUT/rviz/shares.txt"
+}
+
 # The package's best model (ground plane from the frame's pose); DEMO_MODEL=local_gp_mle shows the
 # reference-equivalent one.
 DEPTH_MODEL=${DEMO_MODEL:-ground_gp}
@@ -217,7 +242,7 @@ stage_report() {
   "$PY" "$REPO/scripts/demo_report.py" --out "$OUT" --root "$ROOT" --frame "$FIRST" \
     --frames "$FRAMES" --sensor "$SENSOR" --depth-prefix "$DEPTH_PREFIX" \
     --conditioning "$conditioning" --timings "$TIMINGS" --bag "$BAG" \
-    --ros-summary "$ROS_OUT/summary.json" \
+    --ros-summary "$ROS_OUT/summary.json" --rviz "$ROS_OUT/rviz" \
     --title "multimodal_nvs demo: $SOURCE"
 }
 

@@ -218,6 +218,29 @@ def ros_section(path, rel, metrics):
             (rel(bag), html.escape(rel(bag)), warn, "".join(rows), "".join(cells)))
 
 
+def rviz_section(folder, rel, metrics):
+    """HTML of the rviz screenshot (scripts/rviz_screenshot.sh); adds its panel shares to
+    `metrics`."""
+    png = os.path.join(folder, "rviz.png") if folder else ""
+    if not png or not os.path.exists(png):
+        return ("<h2>rviz</h2><p>no screenshot (the rviz stage was skipped or failed; see "
+                "logs/rviz.log)</p>")
+    shares = []
+    shares_txt = os.path.join(folder, "shares.txt")
+    if os.path.exists(shares_txt):
+        for line in open(shares_txt):
+            if line.startswith("rviz panel "):
+                name, value = line[len("rviz panel "):].split(": coloured share ")
+                shares.append((name, value.split()[0]))
+                metrics.append(("rviz", "coloured share of the %s panel" % name, value.split()[0]))
+    listing = "".join("<li>%s: %s</li>" % (html.escape(n), html.escape(v)) for n, v in shares)
+    return ('<h2>rviz (roslaunch multimodal_nvs demo.launch gui:=true)</h2><p>rviz/multimodal_nvs.rviz '
+            'on a 1600x1000 virtual screen: the cloud coloured by its standard deviation (0..10 m), '
+            'the camera image, depth/image_color (0..50 m) and depth/stddev_color (0..10 m). '
+            'Coloured share of each image panel:</p><ul>%s</ul><img src="%s" '
+            'style="max-width: 100%%">' % (listing, rel(png)))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--out", required=True)
@@ -231,6 +254,8 @@ def main():
     ap.add_argument("--title", default="multimodal_nvs demo")
     ap.add_argument("--bag", default="")
     ap.add_argument("--ros-summary", default="")
+    ap.add_argument("--rviz", default="",
+                    help="folder of scripts/rviz_screenshot.sh's rviz.png and shares.txt")
     args = ap.parse_args()
 
     out = os.path.abspath(args.out)
@@ -430,6 +455,7 @@ def main():
 
     # The ROS pipeline: the bag through both nodelets (launch/demo.launch), outputs recorded.
     sections.append(ros_section(args.ros_summary, rel, metrics))
+    sections.append(rviz_section(args.rviz, rel, metrics))
 
     # Timings.
     timing_rows = ""

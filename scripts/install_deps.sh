@@ -5,11 +5,13 @@ set -euo pipefail
 
 PACKAGES=(
   build-essential cmake pkg-config
-  ros-base-dev libnodeletlib-dev libpcl-ros-dev libcv-bridge-dev libimage-transport-dev
-  libtf2-ros-dev libtf2-sensor-msgs-dev libtf2-eigen-dev
+  ros-base-dev libnodeletlib-dev libpcl-ros-dev libimage-transport-dev
+  libtf2-ros-dev libtf2-eigen-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   libdiagnostic-updater-dev librosbag-dev libactionlib-dev libactionlib-msgs-dev python3-rostest rosbash rviz
   python3-actionlib python3-actionlib-msgs
+  # The rviz screenshot test and the demo's screenshot (virtual X server, `import`).
+  xvfb xauth imagemagick
   python3-sensor-msgs python3-std-msgs python3-geometry-msgs python3-tf2-ros python3-genpy
   python3-rosbag python3-numpy libstd-srvs-dev python3-std-srvs python3-catkin-pkg
   # The soak monitor and demo scripts (rospy, rosgraph, diagnostic_msgs).

@@ -1,7 +1,8 @@
 // multimodal_nvs/DepthCompletion: synchronized PointCloud2 + Image + CameraInfo in; REP-118 depth,
-// variance, mask, coloured cloud and stats out. Wiring only: topics, parameters, tf, diagnostics
-// and one completeDepthFrame per set. Input policies live in multimodal_nvs/ros (the restartable
-// synchronizer, the input timeline, conversions), cost policies in the core's workspace.
+// variance, mask, colour-mapped depth and standard deviation, coloured cloud and stats out. Wiring
+// only: topics, parameters, tf, diagnostics and one completeDepthFrame per set. Input policies live
+// in multimodal_nvs/ros (the restartable synchronizer, the input timeline, conversions), cost
+// policies in the core's workspace.
 #include <dynamic_reconfigure/server.h>
 #include <image_transport/camera_publisher.h>
 #include <image_transport/image_transport.h>
@@ -17,8 +18,10 @@
 #include <mutex>
 
 #include "depth_completion_diagnostics.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/depth/depth_completion_workspace.hpp"
 #include "multimodal_nvs/ros/conversions.hpp"
+#include "multimodal_nvs/ros/depth_color_images.hpp"
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
 #include "multimodal_nvs/ros/depth_frame.hpp"
 #include "multimodal_nvs/ros/frame_synchronizer.hpp"
@@ -44,6 +47,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     compressed_input_ = pnh.param("compressed_input", false);
     tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
     max_points_ = pnh.param("max_points", 0);
+    readColorScales(pnh);
 
     tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
     tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
@@ -72,6 +76,19 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     advertiseOutputs();
   }
 
+  /// The fixed ranges (metres) of the colour images: a colour is the same distance in every frame.
+  void readColorScales(ros::NodeHandle& pnh) {
+    const double depth_max = pnh.param("depth_color_max", kDefaultDepthColorMax);
+    const double stddev_max = pnh.param("stddev_color_max", kDefaultStddevColorMax);
+    try {
+      depth_scale_ = ColorScale(0.0, depth_max, cv::COLORMAP_TURBO);
+      stddev_scale_ = ColorScale(0.0, stddev_max, cv::COLORMAP_VIRIDIS);
+    } catch (const InputError& e) {
+      NODELET_ERROR("depth_color_max %g / stddev_color_max %g must be > 0 (%s): using %g / %g m",
+                    depth_max, stddev_max, e.what(), kDefaultDepthColorMax, kDefaultStddevColorMax);
+    }
+  }
+
   void advertiseOutputs() {
     ros::NodeHandle& nh = getNodeHandle();
     image_transport::SubscriberStatusCallback image_cb =
@@ -81,13 +98,17 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     depth_pub_ = it_->advertiseCamera("depth/image", 1, image_cb, image_cb, topic_cb, topic_cb);
     variance_pub_ = it_->advertise("depth/variance", 1, image_cb, image_cb);
     mask_pub_ = it_->advertise("depth/mask", 1, image_cb, image_cb);
+    // For people (rviz); on the grid of depth/image, so depth/camera_info describes them too.
+    depth_color_pub_ = it_->advertise("depth/image_color", 1, image_cb, image_cb);
+    stddev_color_pub_ = it_->advertise("depth/stddev_color", 1, image_cb, image_cb);
     points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("depth/points", 1, topic_cb, topic_cb);
     stats_pub_ = nh.advertise<DepthCompletionStats>("depth/stats", 5, topic_cb, topic_cb);
   }
 
   bool outputsHaveSubscribers() const {
     return depth_pub_.getNumSubscribers() > 0 || variance_pub_.getNumSubscribers() > 0 ||
-           mask_pub_.getNumSubscribers() > 0 || points_pub_.getNumSubscribers() > 0 ||
+           mask_pub_.getNumSubscribers() > 0 || depth_color_pub_.getNumSubscribers() > 0 ||
+           stddev_color_pub_.getNumSubscribers() > 0 || points_pub_.getNumSubscribers() > 0 ||
            stats_pub_.getNumSubscribers() > 0;
   }
 
@@ -203,6 +224,17 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     if (variance_pub_.getNumSubscribers() > 0)
       variance_pub_.publish(image(variance_msg_, rc::varianceImage));
     if (mask_pub_.getNumSubscribers() > 0) mask_pub_.publish(image(mask_msg_, rc::maskImage));
+    // Each colour image is computed only while it has a subscriber.
+    const auto coloured = [&](RecycledMessage<sensor_msgs::Image>& recycled, const auto& convert,
+                              const ColorScale& scale) {
+      const sensor_msgs::ImagePtr message = recycled.next();
+      convert(depth, scale, header, *message);
+      return message;
+    };
+    if (depth_color_pub_.getNumSubscribers() > 0)
+      depth_color_pub_.publish(coloured(depth_color_msg_, rc::depthColorImage, depth_scale_));
+    if (stddev_color_pub_.getNumSubscribers() > 0)
+      stddev_color_pub_.publish(coloured(stddev_color_msg_, rc::stddevColorImage, stddev_scale_));
     cv::Mat rgb;
     if (points_pub_.getNumSubscribers() > 0 && accept(frame.rgb(rgb), "image")) {
       const sensor_msgs::PointCloud2Ptr cloud = points_msg_.next();
@@ -240,6 +272,10 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   bool compressed_input_ = false;
   ros::Duration tf_timeout_;
   int max_points_ = 0;  // < 0: no limit, 0: automatic (pointCap), > 0: that many
+  static constexpr double kDefaultDepthColorMax = 50.0;   // m: radar range of View-of-Delft
+  static constexpr double kDefaultStddevColorMax = 10.0;  // m
+  ColorScale depth_scale_{0.0, kDefaultDepthColorMax, cv::COLORMAP_TURBO};
+  ColorScale stddev_scale_{0.0, kDefaultStddevColorMax, cv::COLORMAP_VIRIDIS};
 
   // Inputs, subscribed only while an output has a subscriber. The synchronizer of the configured
   // image transport is declared after them: it disconnects from them when destroyed.
@@ -254,10 +290,11 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   std::mutex connect_mutex_;
   bool subscribed_ = false;
   image_transport::CameraPublisher depth_pub_;
-  image_transport::Publisher variance_pub_, mask_pub_;
+  image_transport::Publisher variance_pub_, mask_pub_, depth_color_pub_, stddev_color_pub_;
   ros::Publisher points_pub_, stats_pub_;
   // Output messages written again once their subscribers are done with them (frame callback only).
-  RecycledMessage<sensor_msgs::Image> depth_msg_, variance_msg_, mask_msg_;
+  RecycledMessage<sensor_msgs::Image> depth_msg_, variance_msg_, mask_msg_, depth_color_msg_,
+      stddev_color_msg_;
   RecycledMessage<sensor_msgs::PointCloud2> points_msg_;
 
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;

@@ -449,15 +449,18 @@ void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, co
                   int cloud_stride, const std_msgs::Header& header,
                   sensor_msgs::PointCloud2& cloud) {
   cloud.header = header;
-  cloud.fields.resize(4);
-  const char* const names[4] = {"x", "y", "z", "rgb"};
-  for (int i = 0; i < 4; ++i) {
+  // stddev after rgb: readers that know XYZRGB (PCL, the renderer) find x, y, z, rgb where they
+  // were; rviz colours the cloud by it with the Intensity transformer.
+  constexpr int kFields = 5;
+  cloud.fields.resize(kFields);
+  const char* const names[kFields] = {"x", "y", "z", "rgb", "stddev"};
+  for (int i = 0; i < kFields; ++i) {
     cloud.fields[i].name = names[i];
     cloud.fields[i].offset = 4 * i;
     cloud.fields[i].datatype = sensor_msgs::PointField::FLOAT32;
     cloud.fields[i].count = 1;
   }
-  cloud.point_step = 16;
+  cloud.point_step = 4 * kFields;
   cloud.is_bigendian = hostIsBigEndian();
   cloud.is_dense = true;
   cloud.height = 1;
@@ -508,6 +511,9 @@ void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, co
       }
       std::memcpy(out, xyz, sizeof xyz);
       std::memcpy(out + 12, &packed, sizeof packed);
+      // Kept pixels have a finite variance (only finite variances are candidates for keeping).
+      const float stddev = std::sqrt(depth.variance[index]);
+      std::memcpy(out + 16, &stddev, sizeof stddev);
       out += cloud.point_step;
     }
   }

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <mutex>
 
+#include "multimodal_nvs/core/common/colormap.hpp"
 #include "rostest_helpers.hpp"
 #include "synthetic_scene.hpp"
 
@@ -23,17 +24,18 @@ namespace {
 /// The latest message of every output topic.
 struct Outputs {
   std::mutex mutex;
-  sensor_msgs::ImageConstPtr depth, variance, mask;
+  sensor_msgs::ImageConstPtr depth, variance, mask, depth_color, stddev_color;
   sensor_msgs::CameraInfoConstPtr info;
   sensor_msgs::PointCloud2ConstPtr points;
   multimodal_nvs::DepthCompletionStatsConstPtr stats;
 
   bool completeFor(const ros::Time& stamp) {
     std::lock_guard<std::mutex> lock(mutex);
-    return depth && variance && mask && info && points && stats && depth->header.stamp == stamp &&
-           variance->header.stamp == stamp && mask->header.stamp == stamp &&
-           info->header.stamp == stamp && points->header.stamp == stamp &&
-           stats->header.stamp == stamp;
+    return depth && variance && mask && depth_color && stddev_color && info && points && stats &&
+           depth->header.stamp == stamp && variance->header.stamp == stamp &&
+           mask->header.stamp == stamp && depth_color->header.stamp == stamp &&
+           stddev_color->header.stamp == stamp && info->header.stamp == stamp &&
+           points->header.stamp == stamp && stats->header.stamp == stamp;
   }
 };
 
@@ -58,13 +60,15 @@ class DepthSceneTest : public ::testing::Test {
     ros::NodeHandle nh;
     outputs_ = new Outputs;
     Outputs& out = *outputs_;
-    subscribers_ =
-        new std::vector<ros::Subscriber>{keepLatest(nh, "depth/image", out, &Outputs::depth),
-                                         keepLatest(nh, "depth/camera_info", out, &Outputs::info),
-                                         keepLatest(nh, "depth/variance", out, &Outputs::variance),
-                                         keepLatest(nh, "depth/mask", out, &Outputs::mask),
-                                         keepLatest(nh, "depth/points", out, &Outputs::points),
-                                         keepLatest(nh, "depth/stats", out, &Outputs::stats)};
+    subscribers_ = new std::vector<ros::Subscriber>{
+        keepLatest(nh, "depth/image", out, &Outputs::depth),
+        keepLatest(nh, "depth/camera_info", out, &Outputs::info),
+        keepLatest(nh, "depth/variance", out, &Outputs::variance),
+        keepLatest(nh, "depth/mask", out, &Outputs::mask),
+        keepLatest(nh, "depth/image_color", out, &Outputs::depth_color),
+        keepLatest(nh, "depth/stddev_color", out, &Outputs::stddev_color),
+        keepLatest(nh, "depth/points", out, &Outputs::points),
+        keepLatest(nh, "depth/stats", out, &Outputs::stats)};
     static tf2_ros::StaticTransformBroadcaster static_tf;
     static_tf.sendTransform(ss::sensorToCameraMsg(ros::Time(0)));
     const ss::InputPublishers inputs(nh, 1);
@@ -161,17 +165,21 @@ TEST_F(DepthSceneTest, VarianceGrowsAwayFromPoints) {
   }
 }
 
-TEST_F(DepthSceneTest, CloudColoursAndDepthMatchTheImage) {
+TEST_F(DepthSceneTest, CloudColoursDepthAndStddevMatchTheImages) {
   const sensor_msgs::PointCloud2& cloud = *outputs_->points;
-  ASSERT_EQ(cloud.point_step, 16u);
-  ASSERT_EQ(cloud.fields.size(), 4u);
+  ASSERT_EQ(cloud.point_step, 20u);
+  ASSERT_EQ(cloud.fields.size(), 5u);
   EXPECT_EQ(cloud.fields[3].name, "rgb");
+  EXPECT_EQ(cloud.fields[4].name, "stddev");
+  EXPECT_EQ(cloud.fields[4].offset, 16u);
+  EXPECT_EQ(cloud.fields[4].datatype, sensor_msgs::PointField::FLOAT32);
   EXPECT_EQ(cloud.width, outputs_->stats->kept_pixels);  // cloud_stride 1
   for (std::size_t i = 0; i < cloud.width; ++i) {
-    float xyz[3];
+    float xyz[3], stddev;
     std::uint32_t packed;
-    std::memcpy(xyz, &cloud.data[i * 16], sizeof xyz);
-    std::memcpy(&packed, &cloud.data[i * 16 + 12], sizeof packed);
+    std::memcpy(xyz, &cloud.data[i * 20], sizeof xyz);
+    std::memcpy(&packed, &cloud.data[i * 20 + 12], sizeof packed);
+    std::memcpy(&stddev, &cloud.data[i * 20 + 16], sizeof stddev);
     const int u = int(std::lround(ss::kFx * xyz[0] / xyz[2] + ss::kCx));
     const int v = int(std::lround(ss::kFy * xyz[1] / xyz[2] + ss::kCy));
     ASSERT_TRUE(u >= 0 && u < ss::kWidth && v >= 0 && v < ss::kHeight);
@@ -180,7 +188,38 @@ TEST_F(DepthSceneTest, CloudColoursAndDepthMatchTheImage) {
     ASSERT_EQ(packed, (std::uint32_t(rgb[0]) << 16) | (std::uint32_t(rgb[1]) << 8) | rgb[2])
         << "point " << i << " at pixel " << u << "," << v;
     ASSERT_NEAR(xyz[2], floatAt(*outputs_->depth, u, v), 1e-4);
+    ASSERT_NEAR(stddev, std::sqrt(floatAt(*outputs_->variance, u, v)), 1e-4);
   }
+}
+
+// The colour images: bgr8 on the depth grid, the fixed default ranges (depth 0..50 m turbo,
+// standard deviation 0..10 m viridis), black where not kept / no prediction.
+TEST_F(DepthSceneTest, ColourImagesMapDepthAndStddevOverFixedRanges) {
+  const sensor_msgs::Image& depth = *outputs_->depth;
+  const sensor_msgs::Image& variance = *outputs_->variance;
+  const multimodal_nvs::ColorScale depth_scale(0.0, 50.0, cv::COLORMAP_TURBO);
+  const multimodal_nvs::ColorScale stddev_scale(0.0, 10.0, cv::COLORMAP_VIRIDIS);
+  for (const sensor_msgs::Image* image : {&*outputs_->depth_color, &*outputs_->stddev_color}) {
+    ASSERT_EQ(image->encoding, sensor_msgs::image_encodings::BGR8);
+    ASSERT_EQ(image->width, depth.width);
+    ASSERT_EQ(image->height, depth.height);
+    ASSERT_EQ(image->step, 3 * image->width);
+  }
+  int coloured = 0;
+  for (int v = 0; v < ss::kHeight; ++v) {
+    for (int u = 0; u < ss::kWidth; ++u) {
+      const std::size_t at = std::size_t(v) * depth.width * 3 + 3 * u;
+      const float z = floatAt(depth, u, v);
+      const cv::Vec3b want_depth = std::isnan(z) ? depth_scale.noData() : depth_scale(z);
+      const cv::Vec3b want_stddev = stddev_scale(std::sqrt(floatAt(variance, u, v)));
+      for (int ch = 0; ch < 3; ++ch) {
+        ASSERT_EQ(outputs_->depth_color->data[at + ch], want_depth[ch]) << u << "," << v;
+        ASSERT_EQ(outputs_->stddev_color->data[at + ch], want_stddev[ch]) << u << "," << v;
+      }
+      coloured += !std::isnan(z);
+    }
+  }
+  EXPECT_GT(coloured, 0);
 }
 
 TEST_F(DepthSceneTest, StatsDescribeTheInput) {

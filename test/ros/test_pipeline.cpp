@@ -52,7 +52,7 @@ struct Outputs {
   std::mutex mutex;
   std::vector<sensor_msgs::ImageConstPtr> depth, variance, mask, conditioning, conditioning_mask;
   std::vector<sensor_msgs::CameraInfoConstPtr> depth_info, conditioning_info;
-  std::vector<sensor_msgs::PointCloud2ConstPtr> points;
+  std::vector<sensor_msgs::PointCloud2ConstPtr> points, filtered;
   std::vector<multimodal_nvs::DepthCompletionStatsConstPtr> stats;
 };
 
@@ -84,6 +84,8 @@ class PipelineTest : public ::testing::Test {
     ros::NodeHandle pnh("~");
     sensor_ = pnh.param<std::string>("sensor", "radar");
     renderer_ = pnh.param<std::string>("renderer", "/conditioning_renderer");
+    // The last pcl_ros filter's output when filters sit in front of the depth nodelet.
+    filtered_topic_ = pnh.param<std::string>("filtered_points", "");
     ros::NodeHandle nh;
 
     char pattern[] = "/tmp/mmnvs_pipeline_XXXXXX";
@@ -108,6 +110,8 @@ class PipelineTest : public ::testing::Test {
         collect(nh, "conditioning/image", o, &Outputs::conditioning),
         collect(nh, "conditioning/camera_info", o, &Outputs::conditioning_info),
         collect(nh, "conditioning/mask", o, &Outputs::conditioning_mask)};
+    if (!filtered_topic_.empty())
+      subscribers_->push_back(collect(nh, filtered_topic_, o, &Outputs::filtered));
     spinner_ = new ros::AsyncSpinner(1);
     spinner_->start();
 
@@ -169,14 +173,15 @@ class PipelineTest : public ::testing::Test {
     if (!dir_.empty()) fs::remove_all(dir_, ignored);
   }
 
-  static std::string sensor_, renderer_, dir_, bag_;
+  static std::string sensor_, renderer_, filtered_topic_, dir_, bag_;
   static pid_t player_;
   static Outputs* outputs_;
   static std::vector<ros::Subscriber>* subscribers_;
   static ros::AsyncSpinner* spinner_;
 };
 
-std::string PipelineTest::sensor_, PipelineTest::renderer_, PipelineTest::dir_, PipelineTest::bag_;
+std::string PipelineTest::sensor_, PipelineTest::renderer_, PipelineTest::filtered_topic_,
+    PipelineTest::dir_, PipelineTest::bag_;
 pid_t PipelineTest::player_ = -1;
 Outputs* PipelineTest::outputs_ = nullptr;
 std::vector<ros::Subscriber>* PipelineTest::subscribers_ = nullptr;
@@ -263,6 +268,19 @@ TEST_F(PipelineTest, VarianceIsNonNegativeAndFiniteWhereKept) {
     }
     EXPECT_EQ(negative_or_nan, 0u);
     EXPECT_EQ(not_finite_kept, 0u);
+  }
+}
+
+// With pcl_ros filters in front (pipeline.test pcl:=true): the depth nodelet completed each frame
+// from the filtered cloud of that stamp, point for point.
+TEST_F(PipelineTest, DepthComesFromTheFilteredCloud) {
+  if (filtered_topic_.empty()) GTEST_SKIP() << "no pcl_ros filters in this launch";
+  const Outputs& o = *outputs_;
+  ASSERT_EQ(o.stats.size(), std::size_t(kFrames));
+  for (const auto& stats : o.stats) {
+    const auto cloud = withStamp(o.filtered, stats->header.stamp);
+    ASSERT_TRUE(cloud) << "no " << filtered_topic_ << " at " << stats->header.stamp;
+    EXPECT_EQ(stats->points_in, std::size_t(cloud->width) * cloud->height);
   }
 }
 

@@ -9,6 +9,7 @@
 
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/ros/conversions.hpp"
+#include "multimodal_nvs/ros/depth_color_images.hpp"
 #include "multimodal_nvs/ros/depth_completion_config.hpp"
 #include "multimodal_nvs/ros/input_timeline.hpp"
 #include "multimodal_nvs/ros/recycled_message.hpp"
@@ -609,11 +610,61 @@ TEST(OutputConversion, ColoredCloudBackProjectsKeptPixelsWithTheirColour) {
         std::memcpy(&packed, &cloud->data[i * cloud->point_step + 12], 4);
         const cv::Vec3b px = rgb.at<cv::Vec3b>(v, u);
         EXPECT_EQ(packed, (std::uint32_t(px[0]) << 16) | (std::uint32_t(px[1]) << 8) | px[2]);
+        float stddev;
+        std::memcpy(&stddev, &cloud->data[i * cloud->point_step + 16], 4);
+        EXPECT_FLOAT_EQ(stddev, std::sqrt(map.variance[index]));
         ++i;
       }
     }
     EXPECT_EQ(cloud->width, expected_count);
     EXPECT_EQ(cloud->row_step, cloud->width * cloud->point_step);
+  }
+}
+
+TEST(OutputConversion, ColoredCloudDeclaresItsFields) {
+  const mm::DepthMap map = makeDepthMap();
+  sensor_msgs::PointCloud2 cloud;
+  rc::coloredCloud(map, mm::PinholeIntrinsics{100, 120, 3, 2}, cv::Mat(), 1, {}, cloud);
+  ASSERT_EQ(cloud.fields.size(), 5u);
+  const char* const names[] = {"x", "y", "z", "rgb", "stddev"};
+  for (std::size_t f = 0; f < 5; ++f) {
+    EXPECT_EQ(cloud.fields[f].name, names[f]);
+    EXPECT_EQ(cloud.fields[f].offset, 4 * f);
+    EXPECT_EQ(cloud.fields[f].datatype, sensor_msgs::PointField::FLOAT32);
+    EXPECT_EQ(cloud.fields[f].count, 1u);
+  }
+  EXPECT_EQ(cloud.point_step, 20u);
+  EXPECT_TRUE(cloud.is_dense);  // kept pixels only: every stddev finite
+}
+
+// Colour images on the grid: bgr8, depth through its scale where kept, sqrt(variance) through its
+// scale where predicted, the no-data colour elsewhere; a recycled larger message is reshaped.
+TEST(OutputConversion, DepthAndStddevColourImages) {
+  const mm::DepthMap map = makeDepthMap();
+  std_msgs::Header header;
+  header.frame_id = "cam";
+  const mm::ColorScale depth_scale(0.0, 20.0, cv::COLORMAP_TURBO, cv::Vec3b(1, 2, 3));
+  const mm::ColorScale stddev_scale(0.0, 3.0, cv::COLORMAP_VIRIDIS);
+  sensor_msgs::Image depth, stddev;
+  stddev.data.resize(10000);  // a previous, larger output
+  rc::depthColorImage(map, depth_scale, header, depth);
+  rc::stddevColorImage(map, stddev_scale, header, stddev);
+  for (const sensor_msgs::Image* image : {&depth, &stddev}) {
+    EXPECT_EQ(image->header.frame_id, "cam");
+    EXPECT_EQ(image->encoding, "bgr8");
+    EXPECT_EQ(int(image->width), map.grid.cols());
+    EXPECT_EQ(int(image->height), map.grid.rows());
+    EXPECT_EQ(image->step, 3 * image->width);
+    ASSERT_EQ(image->data.size(), 3 * map.grid.size());
+  }
+  for (std::size_t i = 0; i < map.grid.size(); ++i) {
+    const cv::Vec3b want_depth = map.valid[i] ? depth_scale(map.depth[i]) : cv::Vec3b(1, 2, 3);
+    const cv::Vec3b want_stddev =
+        i == 5 ? stddev_scale.noData() : stddev_scale(std::sqrt(map.variance[i]));
+    for (int ch = 0; ch < 3; ++ch) {
+      EXPECT_EQ(depth.data[3 * i + ch], want_depth[ch]) << i;
+      EXPECT_EQ(stddev.data[3 * i + ch], want_stddev[ch]) << i;
+    }
   }
 }
 

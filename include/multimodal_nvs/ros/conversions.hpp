@@ -147,9 +147,10 @@ sensor_msgs::PointCloud2 float32Cloud(const std::vector<std::string>& names,
                                       const std::vector<float>& values,
                                       const std_msgs::Header& header);
 
-/// XYZRGB cloud (float32 x, y, z, packed rgb) in the camera frame of the kept pixels, every
-/// `cloud_stride`-th grid pixel in each direction: P = z K^-1 [u, v, 1] at the full-image pixel,
-/// colour = `rgb` (full-image CV_8UC3) at that pixel. Unorganised, dense. Written into `cloud`,
+/// XYZRGB cloud with uncertainty (float32 x, y, z, packed rgb, stddev in metres = sqrt(variance))
+/// in the camera frame of the kept pixels, every `cloud_stride`-th grid pixel in each direction:
+/// P = z K^-1 [u, v, 1] at the full-image pixel, colour = `rgb` (full-image CV_8UC3) at that
+/// pixel. Unorganised, dense. Written into `cloud`,
 /// whose buffer is reused when it is large enough.
 void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, const cv::Mat& rgb,
                   int cloud_stride, const std_msgs::Header& header,

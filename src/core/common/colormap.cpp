@@ -1,5 +1,7 @@
 #include "multimodal_nvs/core/common/colormap.hpp"
 
+#include "multimodal_nvs/core/common/errors.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +9,21 @@
 #include <vector>
 
 namespace multimodal_nvs {
+
+ColorScale::ColorScale(double vmin, double vmax, int colormap, cv::Vec3b no_data)
+    : no_data_(no_data), vmin_(vmin), vmax_(vmax) {
+  if (!(vmin < vmax) || !std::isfinite(vmin) || !std::isfinite(vmax)) {
+    throw InputError("colour scale: need finite vmin < vmax, got " + std::to_string(vmin) + " .. " +
+                     std::to_string(vmax));
+  }
+  scale_ = static_cast<float>(255.0 / (vmax - vmin));
+  cv::Mat ramp(256, 1, CV_8UC1), coloured;
+  for (int i = 0; i < 256; ++i)
+    ramp.at<uchar>(i) = static_cast<uchar>(i);
+  cv::applyColorMap(ramp, coloured, colormap);
+  for (int i = 0; i < 256; ++i)
+    colours_[i] = coloured.at<cv::Vec3b>(i);
+}
 
 cv::Mat colorizeWithScaleBar(const cv::Mat& values, const cv::Mat& valid, double vmin, double vmax,
                              const std::string& label, int colormap) {
@@ -39,11 +56,14 @@ cv::Mat colorizeWithScaleBar(const cv::Mat& values, const cv::Mat& valid, double
       if (!(vmax > vmin)) vmax = vmin + 1.0;
     }
   }
-  cv::Mat scaled;
-  values.convertTo(scaled, CV_8UC1, 255.0 / (vmax - vmin), -vmin * 255.0 / (vmax - vmin));
-  cv::Mat colored;
-  cv::applyColorMap(scaled, colored, colormap);
-  colored.setTo(cv::Scalar(40, 40, 40), shown == 0);
+  const ColorScale scale(vmin, vmax, colormap, cv::Vec3b(40, 40, 40));
+  cv::Mat colored(values.size(), CV_8UC3);
+  for (int r = 0; r < values.rows; ++r) {
+    for (int c = 0; c < values.cols; ++c) {
+      colored.at<cv::Vec3b>(r, c) =
+          shown.at<uint8_t>(r, c) ? scale(values.at<float>(r, c)) : scale.noData();
+    }
+  }
 
   // Scale bar: a vertical gradient with tick labels, height of the image, on a white margin.
   const int bar_width = std::max(20, values.cols / 40);
