@@ -496,7 +496,9 @@ TEST(SyntheticScene, OccludersStandWhereTheDriveSeesThemAndLeaveTheRestOfTheStre
     EXPECT_LE(box.min.x(), layout.occluder_max_x + 10.0);
     // Nothing stands in the ego lane where the drive passes (lane -3..0 m, up to the clear x).
     const bool in_ego_lane = box.max.y() > -layout.lane_width && box.min.y() < 0.0;
-    if (in_ego_lane) EXPECT_GE(box.max.x(), layout.ego_lane_clear_until_x) << "box " << i;
+    if (in_ego_lane) {
+      EXPECT_GE(box.max.x(), layout.ego_lane_clear_until_x) << "box " << i;
+    }
     if (box.material == syn::Material::kSkin) ++people;
     if (box.material == syn::Material::kClothing && (box.variant & 1)) ++striped;
     EXPECT_LE(box.max.z(), 5.0);
