@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <opencv2/imgcodecs.hpp>
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
@@ -59,11 +60,17 @@ void runCompletion(benchmark::State& state, int frame, const std::string& sensor
     state.SkipWithError("VoD data not found (set MMNVS_DATA_DIR)");
     return;
   }
+  cv::Mat image;  // only image_guided reads the camera image
+  if (params.model == mm::DepthModel::kImageGuided) {
+    image = cv::imread(mm::io::VodFrame{dataDir() + "/vod", frame}.image(), cv::IMREAD_COLOR);
+    if (image.empty()) return state.SkipWithError("VoD camera image not found");
+  }
   mm::DepthCompleter completer(params.threads);
   mm::DepthMap map;  // reused across scans, as a node does
-  completer.complete(scan->points, scan->intrinsics, kFullResolution, params, map);  // camera setup
+  completer.complete(scan->points, scan->intrinsics, kFullResolution, params, map,
+                     image);  // camera setup
   for (auto _ : state) {
-    completer.complete(scan->points, scan->intrinsics, kFullResolution, params, map);
+    completer.complete(scan->points, scan->intrinsics, kFullResolution, params, map, image);
     benchmark::DoNotOptimize(map.depth.data());
     state.counters["sets"] = map.stats.neighbour_sets;
   }
@@ -88,6 +95,18 @@ void BM_Radar08350_GroundGp_Retain80(benchmark::State& state) {
   p.model = mm::DepthModel::kGroundGp;
   p.retain_percent = 80.0;
   const double pitch = 6.8 * M_PI / 180.0;  // radar.yaml's ground_pitch_deg
+  p.ground.camera_height = 1.3;
+  p.ground.up_x = 0.0;
+  p.ground.up_y = -std::cos(pitch);
+  p.ground.up_z = std::sin(pitch);
+  runCompletion(state, 8350, "radar", p);
+}
+// image_guided at full resolution, radar.yaml's ground and retention.
+void BM_Radar08350_ImageGuided_Retain80(benchmark::State& state) {
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kImageGuided;
+  p.retain_percent = 80.0;
+  const double pitch = 6.8 * M_PI / 180.0;
   p.ground.camera_height = 1.3;
   p.ground.up_x = 0.0;
   p.ground.up_y = -std::cos(pitch);
@@ -184,6 +203,7 @@ void BM_Radar08350_KeepLowestVariance(benchmark::State& state) {
 BENCHMARK(BM_Radar08350_LocalGpExact)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_LocalGpExact_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_GroundGp_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Radar08350_ImageGuided_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_Kernel)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Lidar00549_TiledApprox)
     ->Args({16, 16})

@@ -13,7 +13,7 @@ PACKAGES=(
   python3-rosbag python3-numpy libstd-srvs-dev python3-std-srvs python3-catkin-pkg
   # The soak monitor and demo scripts (rospy, rosgraph, diagnostic_msgs).
   python3-rospy python3-rosgraph python3-diagnostic-msgs
-  libeigen3-dev libopencv-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libeigen3-dev libopencv-dev libopencv-contrib-dev libgtest-dev libgmock-dev libbenchmark-dev
   # Hardening: libFuzzer harnesses and the sanitizer builds use Debian's clang and its runtime.
   clang libclang-rt-14-dev
 )

@@ -90,12 +90,15 @@ int run(int argc, char** argv) {
   mm::StrideGrid grid;
   grid.stride = args.integer("stride", 1);
   if (grid.stride < 1) throw mm::cli::UsageError("--stride must be >= 1");
+  cv::Mat image;  // the camera image: its size, and the guide of image_guided
+  if (!image_path.empty()) {
+    image = cv::imread(image_path, cv::IMREAD_UNCHANGED);
+    if (image.empty()) throw mm::InputError(image_path + ": cannot read or decode image");
+  }
   if (args.has("image-size")) {
     const auto& hw = args.list("image-size");
     grid.image = {std::atoi(hw[0].c_str()), std::atoi(hw[1].c_str())};
-  } else if (!image_path.empty()) {
-    const cv::Mat image = cv::imread(image_path, cv::IMREAD_UNCHANGED);
-    if (image.empty()) throw mm::InputError(image_path + ": cannot read or decode image");
+  } else if (!image.empty()) {
     grid.image = {image.rows, image.cols};
   } else {
     throw mm::cli::UsageError("give --image-size H W or --image FILE");
@@ -122,7 +125,7 @@ int run(int argc, char** argv) {
   std::vector<double> times;
   mm::DepthMap result;
   for (int i = 0; i < repeat; ++i) {
-    completer.complete(points_camera, intrinsics, grid, params, result);
+    completer.complete(points_camera, intrinsics, grid, params, result, image);
     times.push_back(result.stats.compute_ms);
   }
   const auto& s = result.stats;

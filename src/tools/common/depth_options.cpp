@@ -8,7 +8,8 @@ namespace multimodal_nvs {
 namespace cli {
 
 void declareDepthModelOptions(Args& args) {
-  args.option("model", 1, "local_gp_mle|kernel|ground_gp|nearest|linear|ipbasic|constant",
+  args.option("model", 1,
+              "local_gp_mle|kernel|ground_gp|image_guided|nearest|linear|ipbasic|constant",
               "local_gp_mle");
   args.option("radius-deg", 1, "neighbourhood radius in degrees", "2");
   args.option("amplitude", 1, "GP amplitude a (kernel variance a^2)", "25");
@@ -44,6 +45,27 @@ void declareDepthModelOptions(Args& args) {
   args.option("dense-edge-ratio", 1,
               "ground_gp dense: relative depth step that separates two surfaces", "0.1");
   args.option("dense-relative-sigma", 1, "ground_gp dense: prior std / depth on a surface", "0.03");
+  args.option("guided-lambda", 1, "image_guided: smoothness weight of the fast global smoother",
+              "4000");
+  args.option("guided-sigma-color", 1, "image_guided: image step (8-bit) that counts as an edge",
+              "8");
+  args.option("guided-iterations", 1, "image_guided: smoother iterations", "3");
+  args.option("guided-prior-weight", 1, "image_guided: confidence of the prior per pixel", "0.001");
+  args.option("guided-far-depth", 1, "image_guided: depth of the sky and above the horizon", "100");
+  args.option("guided-ground-prior", 1, "image_guided: 1 ground-plane prior, 0 median depth", "1");
+  args.option("guided-surface-prior", 1,
+              "image_guided: 1 the prior is nearer of ground and nearest return, 0 ground only",
+              "1");
+  args.option("guided-edges", 1, "image_guided: 1 follow the image's edges, 0 ignore them", "1");
+  args.option("guided-sky", 1, "image_guided: 1 send the detected sky to the far depth", "1");
+  args.option("guided-sky-gradient", 1, "image_guided: image gradient that ends the sky", "12");
+  args.option("guided-sky-brightness", 1, "image_guided: the sky is at least this bright (8-bit)",
+              "120");
+  args.option("guided-sky-sigma", 1, "image_guided: std (m) of the sky's depth", "1");
+  args.option("guided-relative-sigma", 1, "image_guided: std / depth where only the prior speaks",
+              "0.25");
+  args.option("guided-return-relative-sigma", 1, "image_guided: std / depth at a return", "0.05");
+  args.option("guided-splat-radius", 1, "image_guided: grid pixels a return covers around it", "0");
 }
 
 DepthCompletionParams depthModelParams(const Args& args) {
@@ -74,12 +96,28 @@ DepthCompletionParams depthModelParams(const Args& args) {
   g.input = parseGroundInput(args.str("ground-input", "auto"));
   g.dense_edge_ratio = args.number("dense-edge-ratio", g.dense_edge_ratio);
   g.dense_relative_sigma = args.number("dense-relative-sigma", g.dense_relative_sigma);
+  ImageGuidedParams& ig = p.guided;
+  ig.lambda = args.number("guided-lambda", ig.lambda);
+  ig.sigma_color = args.number("guided-sigma-color", ig.sigma_color);
+  ig.iterations = args.integer("guided-iterations", ig.iterations);
+  ig.prior_weight = args.number("guided-prior-weight", ig.prior_weight);
+  ig.far_depth = args.number("guided-far-depth", ig.far_depth);
+  ig.ground_prior = args.integer("guided-ground-prior", ig.ground_prior) != 0;
+  ig.surface_prior = args.integer("guided-surface-prior", ig.surface_prior) != 0;
+  ig.edges = args.integer("guided-edges", ig.edges) != 0;
+  ig.sky = args.integer("guided-sky", ig.sky) != 0;
+  ig.sky_gradient = args.number("guided-sky-gradient", ig.sky_gradient);
+  ig.sky_brightness = args.number("guided-sky-brightness", ig.sky_brightness);
+  ig.sky_sigma = args.number("guided-sky-sigma", ig.sky_sigma);
+  ig.relative_sigma = args.number("guided-relative-sigma", ig.relative_sigma);
+  ig.return_relative_sigma = args.number("guided-return-relative-sigma", ig.return_relative_sigma);
+  ig.splat_radius_px = args.integer("guided-splat-radius", ig.splat_radius_px);
   p.validate();
   return p;
 }
 
 void applyGroundPose(const Args& args, const std::string& default_pose, DepthCompletionParams& p) {
-  if (p.model != DepthModel::kGroundGp) return;
+  if (p.model != DepthModel::kGroundGp && p.model != DepthModel::kImageGuided) return;
   std::string pose_path = args.str("ground-pose");
   if (pose_path.empty() && !default_pose.empty() && io::fileExists(default_pose)) {
     pose_path = default_pose;
