@@ -1,6 +1,6 @@
 // Rendering speed of the conditioning splatter: 121 frames at 704x1280 from a synthetic
 // full-resolution (1216x1936, 2.35 M points) depth map, in both splat modes.
-// Run: build_render/devel/lib/multimodal_nvs/bench_render (or wherever the build put it)
+// Run: devel/lib/multimodal_nvs/bench_render (after make build; scripts/devel_dir.sh)
 //      --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 

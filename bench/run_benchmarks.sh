@@ -10,7 +10,7 @@
 set -uo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${1:-build}
-BIN=$BUILD_DIR/devel/lib/multimodal_nvs
+BIN=$(scripts/devel_dir.sh "$BUILD_DIR")/lib/multimodal_nvs
 REPETITIONS=${BENCH_REPETITIONS:-5}
 export PATH=/usr/bin:/bin:$PATH
 OUT=$BUILD_DIR/bench

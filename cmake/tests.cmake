@@ -34,6 +34,15 @@ target_compile_definitions(test_vod_to_bag PRIVATE
   MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
 add_dependencies(test_vod_to_bag vod_to_bag make_synthetic_scene)
 
+# The tools and nodes through rosrun, as README starts them (needs the sourced devel space, which
+# scripts/run_tests.sh provides). Its own binary: the sanitizer build runs test_tools without ROS.
+catkin_add_gtest(test_rosrun test/tools/test_rosrun.cpp WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
+target_include_directories(test_rosrun PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
+target_link_libraries(test_rosrun ${GTEST_MAIN_LIBRARIES})
+target_compile_definitions(test_rosrun PRIVATE
+  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+add_dependencies(test_rosrun complete_depth vod_to_bag depth_completion_node)
+
 # ROS-side tests: conversions (plain gtest) and the nodelets (rostest, gtest-in-rostest).
 include(cmake/ros_tests.cmake)
 include(cmake/renderer_ros_tests.cmake)

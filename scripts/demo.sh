@@ -25,7 +25,8 @@ if [[ ! -d "$BUILD_DIR" ]]; then
   exit 2
 fi
 BUILD_DIR=$(cd "$BUILD_DIR" && pwd)
-TOOLS="$BUILD_DIR/devel/lib/multimodal_nvs"
+DEVEL=$("$REPO/scripts/devel_dir.sh" "$BUILD_DIR")
+TOOLS="$DEVEL/lib/multimodal_nvs"
 PY=/usr/bin/python3
 OUT=${DEMO_OUTPUT:-$REPO/demo_output}
 SCALE=${DEMO_SCALE:-0.5}
@@ -149,12 +150,12 @@ describe_ros() {
 }
 stage_ros() {
   [[ "${DEMO_ROS:-1}" != 0 ]] || return 3
-  [[ -f "$BUILD_DIR/devel/lib/libmultimodal_nvs_nodelets.so" ]] ||
+  [[ -f "$DEVEL/lib/libmultimodal_nvs_nodelets.so" ]] ||
     { echo "the nodelets are not built in $BUILD_DIR"; return 1; }
   # Debian's ROS profile scripts read unset variables: no nounset while sourcing.
   set +u
   # shellcheck disable=SC1091
-  source "$BUILD_DIR/devel/setup.bash"
+  source "$DEVEL/setup.bash"
   set -u
   # A master of our own on a free port (roslaunch starts it and stops it at the end), and ROS's
   # logs under demo_output.

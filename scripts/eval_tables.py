@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Tables of `make eval` and merging of `evaluate_depth --shard` outputs (numpy only).
 
-  eval_tables.py tables OUT_DIR [--seconds S] [--threads N]
+  eval_tables.py tables OUT_DIR [--seconds S] [--threads N] [--split dev|validation|all]
       Reads OUT_DIR/raw/<suite>/*.json written by scripts/eval.sh, writes OUT_DIR/tables.md and
       OUT_DIR/tables.json, and prints the Markdown.
   eval_tables.py merge MERGED.json SHARD.json [SHARD.json ...]
@@ -212,7 +212,27 @@ def level_of(doc, percent):
     return None, runtime
 
 
-def depth_table(key, title, caption, docs, percent):
+def failure_reason(text):
+    """Short reason for a model that could not run: "needs pose" when the tool asked for one."""
+    lower = text.lower()
+    if "pose" in lower and ("no such file" in lower or "cannot" in lower or "missing" in lower or
+                            "needs" in lower or "required" in lower or "not found" in lower):
+        return "needs pose"
+    return "failed: " + text.strip()[:120]
+
+
+def failures_of(directory, prefix):
+    """Models whose run of `prefix` failed: {model: reason} from eval.sh's *.line.error files."""
+    out = {}
+    for model in MODEL_NAMES:
+        path = os.path.join(directory, "%s_%s.line.error" % (prefix, model))
+        if os.path.exists(path):
+            with open(path) as f:
+                out[model] = failure_reason(f.read())
+    return out
+
+
+def depth_table(key, title, caption, docs, percent, failures=None):
     table = Table(key, title, caption, DEPTH_HEADER)
     for model, doc in docs:
         m, runtime = level_of(doc, percent)
@@ -220,6 +240,9 @@ def depth_table(key, title, caption, docs, percent):
             continue
         table.add(depth_cells(MODEL_NAMES.get(model, model), m, runtime),
                   dict(model=model, retain_percent=percent, median_runtime_ms=runtime, **m))
+    for model, reason in sorted((failures or {}).items()):
+        table.add([MODEL_NAMES.get(model, model), reason] + ["–"] * (len(DEPTH_HEADER) - 2),
+                  dict(model=model, retain_percent=percent, error=reason))
     return table
 
 
@@ -246,6 +269,37 @@ def calibration_rows(model, input_name, doc):
     return rows
 
 
+NVS_HEADER = ["Preview PSNR [dB]", "SSIM", "PSNR excl. ref. [dB]", "Covered PSNR [dB]",
+              "Coverage", "Depth [ms]", "Render [ms]"]
+NVS_NOTE = ("Preview PSNR/SSIM: hole-filled preview frames vs the recorded images (the paper's "
+            "metric protocol), mean over the 16 frames including the reference view; covered PSNR "
+            "and coverage: the raw conditioning frames (the diffusion model fills the holes; it is "
+            "not part of this package). Depth: the model's compute time; render: splatting, "
+            "metrics and PNG/video output of the 16 frames.")
+
+
+def nvs_run(prefix):
+    """Metrics of one render_conditioning run written by eval.sh (None if it did not run)."""
+    if not os.path.exists(prefix + ".metrics.json"):
+        return None
+    metrics = load(prefix + ".metrics.json")
+    depth = load(prefix + ".depth.json") if os.path.exists(prefix + ".depth.json") else {}
+    render = load(prefix + ".render.json")
+    mean, excl = metrics["mean"], metrics["mean_without_reference"]
+    return dict(psnr=mean["psnr"], ssim=mean["ssim"], psnr_without_reference=excl["psnr"],
+                covered_psnr=mean["covered_psnr"], coverage=mean["coverage"],
+                depth_ms=depth.get("compute_ms"), render_ms=render.get("total_ms"),
+                gt_frames=len(metrics["frames"]), size=render.get("size"))
+
+
+def nvs_cells(run):
+    return [fmt(run["psnr"], 2), fmt(run["ssim"], 3), fmt(run["psnr_without_reference"], 2),
+            fmt(run["covered_psnr"], 2),
+            fmt(run["coverage"], 2) if run["coverage"] is not None else "–",
+            fmt_ms(run["depth_ms"]) if run["depth_ms"] is not None else "–",
+            fmt_ms(run["render_ms"]) if run["render_ms"] is not None else "–"]
+
+
 def suite_tables(suite, raw, label, truth, notes):
     d = os.path.join(raw, suite)
     tables = []
@@ -260,24 +314,28 @@ def suite_tables(suite, raw, label, truth, notes):
 
     radar = docs_of("radar", MODEL_NAMES)
     lidar = docs_of("lidar", MODEL_NAMES)
-    if radar:
-        frames = ", ".join("%05d" % f["frame"] for f in radar[0][1]["frames"])
+    radar_failures, lidar_failures = failures_of(d, "radar"), failures_of(d, "lidar")
+    if radar or radar_failures:
+        frames = ", ".join("%05d" % f["frame"] for f in radar[0][1]["frames"]) if radar else "–"
+        stride = radar[0][1]["config"].get("stride", 1) if radar else 1
+        resolution = "full resolution (stride 1)" if stride == 1 else \
+            "stride %d (every %d-th pixel in both directions)" % (stride, stride)
         for percent, which in ((100, "all pixels"), (80, "kept pixels at 80 %")):
             tables.append(depth_table(
                 "%s_radar_%d" % (suite, percent),
                 "%s: depth from radar, %s" % (label, which),
-                "Radar input, frames %s, full resolution (stride 1); ground truth: %s. Metrics are "
+                "Radar input, frames %s, %s; ground truth: %s. Metrics are "
                 "means over frames of the ground-truth pixels that have a %s (Coverage = their "
                 "share; kernel and linear predict only near / between samples).%s%s" %
-                (frames, truth, "kept prediction" if percent < 100 else "prediction",
+                (frames, resolution, truth, "kept prediction" if percent < 100 else "prediction",
                  RETENTION_NOTE if percent < 100 else "", notes),
-                radar, percent))
-    if lidar:
-        cfg = lidar[0][1]["config"]
+                radar, percent, radar_failures))
+    if lidar or lidar_failures:
+        cfg = lidar[0][1]["config"] if lidar else {"subsample": 4, "stride": 4}
         k, stride = cfg["subsample"], cfg["stride"]
-        frames = ", ".join("%05d" % f["frame"] for f in lidar[0][1]["frames"])
-        gt = ("the other %d of every %d LiDAR returns, projected (nearest return per pixel)" %
-              (k - 1, k)) if suite == "vod" else truth
+        frames = ", ".join("%05d" % f["frame"] for f in lidar[0][1]["frames"]) if lidar else "–"
+        gt = "the other %d of every %d LiDAR returns, projected (nearest return per pixel)" % (
+            k - 1, k)
         for percent, which in ((100, "all pixels"), (80, "kept pixels at 80 %")):
             tables.append(depth_table(
                 "%s_lidar_%d" % (suite, percent),
@@ -288,9 +346,9 @@ def suite_tables(suite, raw, label, truth, notes):
                 "frame on this input. Its RMSE_log is dominated by a few tenths of a percent of "
                 "pixels where the GP posterior mean overshoots to a depth <= 0 near dense "
                 "close-range returns (clipped to 1 mm; the exact GP does the same). ground_gp "
-                "runs its dense-input mode (chosen automatically from the return spacing).%s%s" %
+                "chooses its sparse or dense input mode itself (ground_input auto).%s%s" %
                 (k, gt, frames, stride, stride, RETENTION_NOTE if percent < 100 else "", notes),
-                lidar, percent))
+                lidar, percent, lidar_failures))
     # Calibration curves of the predictive variance (all pixels): ground_gp and, for contrast, the
     # reference GP on radar; ground_gp on LiDAR input too.
     rows = []
@@ -355,59 +413,254 @@ def suite_tables(suite, raw, label, truth, notes):
                       fmt(100 * mg["coverage"], 1) + " %" if mg else "–"]
             table.add(cells, record)
         tables.append(table)
-    # Novel view.
+    # Novel view (no exact depth on real data, so no oracle row here).
     nvs_dir = os.path.join(d, "nvs")
-    if os.path.isdir(nvs_dir):
-        header = ["Depth", "Retention", "PSNR [dB]", "SSIM", "PSNR excl. ref. [dB]",
-                  "Covered PSNR [dB]", "Coverage", "Runtime [ms]"]
-        rows = []
-        size = None
-        for model in ("local_gp_mle", "ground_gp", "kernel", "nearest", "constant"):
-            for percent in (40, 60, 80, 100):
-                base = os.path.join(nvs_dir, "%s_%d" % (model, percent))
-                if not os.path.exists(base + ".metrics.json"):
-                    continue
-                metrics = load(base + ".metrics.json")
-                depth = load(base + ".depth.json")
-                render = load(base + ".render.json")
-                size = render.get("size")
-                mean, excl = metrics["mean"], metrics["mean_without_reference"]
-                runtime = (depth.get("compute_ms") or 0.0) + (render.get("total_ms") or 0.0)
-                rows.append(([MODEL_NAMES.get(model, model), "%d %%" % percent,
-                              fmt(mean["psnr"], 2), fmt(mean["ssim"], 3), fmt(excl["psnr"], 2),
-                              fmt(mean["covered_psnr"], 2),
-                              fmt(100 * mean["coverage"], 1) + " %" if mean["coverage"] is not None
-                              else "–", fmt_ms(runtime)],
-                             dict(model=model, retain_percent=percent, psnr=mean["psnr"],
-                                  ssim=mean["ssim"], psnr_without_reference=excl["psnr"],
-                                  covered_psnr=mean["covered_psnr"], coverage=mean["coverage"],
-                                  depth_ms=depth.get("compute_ms"),
-                                  render_ms=render.get("total_ms"),
-                                  gt_frames=len(metrics["frames"]))))
-        if rows:
-            reference = "08350, trajectory 08350–08365" if suite == "vod" else \
-                "00000, trajectory 00000–00015"
-            table = Table("%s_nvs" % suite, "%s: novel view from radar depth" % label,
-                          "Reference image %s (16 recorded poses = ground truth). Depth from radar "
-                          "at the given retention, rendered with GEN3C's splatting at %s (H x W) "
-                          "into the 16 recorded poses only: GEN3C's 121-frame trajectory puts "
-                          "them at frames 0, 8, ..., 120, so the metrics equal those of the full "
-                          "render (checked on VoD, local GP at 80 %%: 13.4611 dB both ways) at "
-                          "1/7 of the cost. PSNR/SSIM: hole-filled preview frames vs the "
-                          "recorded images (the paper's metric protocol), mean over the 16 frames "
-                          "including "
-                          "the reference view; covered PSNR and coverage: the raw conditioning "
-                          "frames (the diffusion model fills the holes; it is not part of this "
-                          "package). Runtime: depth completion + rendering with metrics and PNG "
-                          "output.%s" % (reference, "x".join(str(s) for s in size or []), notes),
-                          header)
-            for cells, record in rows:
-                table.add(cells, record)
-            tables.append(table)
+    rows = []
+    size = None
+    for model in MODEL_NAMES:
+        for percent in (40, 60, 80, 100):
+            run = nvs_run(os.path.join(nvs_dir, "radar_%s_%d" % (model, percent)))
+            if run is None:
+                continue
+            size = run["size"] or size
+            rows.append(([MODEL_NAMES[model], "%d %%" % percent] + nvs_cells(run),
+                         dict(model=model, retain_percent=percent, **run)))
+    if rows:
+        reference = "08350, trajectory 08350–08365" if suite == "vod" else "00000"
+        table = Table("%s_nvs" % suite, "%s: novel view from radar depth" % label,
+                      "Reference image %s (16 recorded poses = ground truth). Depth from radar at "
+                      "the given retention, rendered with GEN3C's splatting at %s (H x W) into the "
+                      "16 recorded poses only: GEN3C's 121-frame trajectory puts them at frames 0, "
+                      "8, ..., 120, so the metrics equal those of the full render (checked on VoD, "
+                      "local GP at 80 %%: 13.4611 dB both ways) at 1/7 of the cost. %s No oracle "
+                      "row: real data has no exact depth.%s" %
+                      (reference, "x".join(str(v) for v in size or []), NVS_NOTE, notes),
+                      ["Depth", "Retention"] + NVS_HEADER)
+        for cells, record in rows:
+            table.add(cells, record)
+        tables.append(table)
     return tables
 
 
-def tables(out_dir, seconds, threads):
+# ---------------------------------------------------------------------------------------------
+# synthetic scenes (eval/synthetic_scenes.tsv)
+
+SCENE_LIST = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "eval",
+                          "synthetic_scenes.tsv")
+SPLITS = ("validation", "dev")
+INPUTS = (("radar", "radar"), ("lidar", "LiDAR"))
+
+
+def scene_order():
+    """Scene names in the order of eval/synthetic_scenes.tsv."""
+    order = []
+    if os.path.exists(SCENE_LIST):
+        with open(SCENE_LIST) as f:
+            for line in f:
+                if line.strip() and not line.startswith("#"):
+                    order.append(line.split("\t")[0])
+    return order
+
+
+def scene_results(directory):
+    """Everything measured on one scene: depth (per input, model) and novel views."""
+    info = load(os.path.join(directory, "scene.json"))
+    out = dict(info, depth={}, nvs={}, errors={}, retention=None)
+    for input_name, _ in INPUTS:
+        for model in MODEL_NAMES:
+            path = os.path.join(directory, "%s_%s.json" % (input_name, model))
+            if os.path.exists(path):
+                doc = load(path)
+                all_px, runtime = level_of(doc, 100)
+                kept, _ = level_of(doc, 80)
+                out["depth"][(input_name, model)] = dict(
+                    mae=all_px["mae"] if all_px else None,
+                    mae_kept80=kept["mae"] if kept else None, runtime_ms=runtime,
+                    frames=[f["frame"] for f in doc["frames"]])
+        out["errors"].update({(input_name, m): r for m, r in
+                              failures_of(directory, input_name).items()})
+    nvs_dir = os.path.join(directory, "nvs")
+    if os.path.isdir(nvs_dir):
+        for kind in ("oracle", "exact_nosky"):
+            run = nvs_run(os.path.join(nvs_dir, kind))
+            if run:
+                out["nvs"][kind] = run
+        for name in sorted(os.listdir(nvs_dir)):
+            if not name.endswith(".metrics.json"):
+                continue
+            stem = name[:-len(".metrics.json")]
+            parts = stem.split("_")
+            if parts[0] not in dict(INPUTS) or not parts[-1].isdigit():
+                continue
+            model = "_".join(parts[1:-1])
+            out["retention"] = int(parts[-1])
+            run = nvs_run(os.path.join(nvs_dir, stem))
+            oracle = out["nvs"].get("oracle")
+            if oracle and run["covered_psnr"] is not None and oracle["covered_psnr"] is not None:
+                run["gap_db"] = run["covered_psnr"] - oracle["covered_psnr"]
+            out["nvs"][(parts[0], model)] = run
+    return out
+
+
+def mean_of(values):
+    values = [v for v in values if v is not None and math.isfinite(v)]
+    return (sum(values) / len(values), len(values)) if values else (float("nan"), 0)
+
+
+def synthetic_tables(raw):
+    root = os.path.join(raw, "synthetic")
+    order = scene_order()
+    names = [n for n in os.listdir(root) if os.path.exists(os.path.join(root, n, "scene.json"))]
+    names.sort(key=lambda n: (order.index(n) if n in order else len(order), n))
+    scenes = [scene_results(os.path.join(root, n)) for n in names]
+    if not scenes:
+        return []
+    models = [m for m in MODEL_NAMES if any(
+        (i, m) in s["nvs"] or (i, m) in s["depth"] for s in scenes for i, _ in INPUTS)]
+    retention = next((s["retention"] for s in scenes if s["retention"] is not None), None)
+    first = scenes[0]
+    depth_frames = next((", ".join(str(f) for f in d["frames"]) for s in scenes
+                         for d in s["depth"].values()), "–")
+    setup = ("Scenes of eval/synthetic_scenes.tsv made by make_synthetic_scene --frames %s "
+             "--scale %s plus each scene's arguments. Novel views: frame 0's depth (radar; or all "
+             "LiDAR returns) at %s %% retention, rendered with GEN3C's splatting at 352x640 into "
+             "the 16 recorded poses; the oracle renders the exact depth with the sky at GEN3C's "
+             "100 m clamp, 'exact, sky dropped' the exact depth without the sky; gap = covered "
+             "PSNR minus the oracle's. Depth: against the exact depth at frame(s) %s (radar: all "
+             "returns, stride 1; LiDAR: 1 in 4 returns as input, stride 4). On LiDAR input the "
+             "local GP uses the tile approximation (--max-neighbors 64), and kernel regression on "
+             "all LiDAR returns (the novel views) a 1° radius." %
+             (first.get("frames"), first.get("scale"), retention if retention else "–",
+              depth_frames))
+    tables = []
+
+    def split_mean(split, key, field):
+        return mean_of([s["nvs"].get(key, {}).get(field) for s in scenes if s["split"] == split])
+
+    def depth_mean(split, key, field):
+        return mean_of([s["depth"].get(key, {}).get(field) for s in scenes
+                        if s["split"] == split])
+
+    # Summary per split: validation (report) first, then dev (tuning).
+    for split in SPLITS:
+        count = sum(1 for s in scenes if s["split"] == split)
+        if count == 0:
+            continue
+        header = ["Input", "Depth", "Covered PSNR [dB]", "Gap to oracle [dB]", "Coverage",
+                  "Preview PSNR [dB]", "MAE [m]", "MAE kept 80 % [m]", "Depth runtime [ms]"]
+        table = Table("synthetic_%s_mean" % split,
+                      "Synthetic scenes: %s mean (%d scenes)" % (split, count),
+                      "Means over the %d %s scenes of each column. %s %s" %
+                      (count, split, setup, NVS_NOTE), header)
+        for kind, label in (("oracle", "exact depth, sky at 100 m (oracle)"),
+                            ("exact_nosky", "exact depth, sky dropped")):
+            cov, n = split_mean(split, kind, "covered_psnr")
+            if n:
+                table.add(["–", label, fmt(cov, 2), fmt(0.0, 2) if kind == "oracle" else
+                           fmt(cov - split_mean(split, "oracle", "covered_psnr")[0], 2),
+                           fmt(split_mean(split, kind, "coverage")[0], 2),
+                           fmt(split_mean(split, kind, "psnr")[0], 2), "0", "0", "–"],
+                          dict(depth=kind, split=split, scenes=n, covered_psnr=cov,
+                               coverage=split_mean(split, kind, "coverage")[0],
+                               psnr=split_mean(split, kind, "psnr")[0]))
+        for input_name, input_label in INPUTS:
+            for model in models:
+                key = (input_name, model)
+                cov, n = split_mean(split, key, "covered_psnr")
+                mae, nd = depth_mean(split, key, "mae")
+                if n == 0 and nd == 0:
+                    continue
+                record = dict(input=input_name, model=model, split=split, scenes=n,
+                              covered_psnr=cov, gap_db=split_mean(split, key, "gap_db")[0],
+                              coverage=split_mean(split, key, "coverage")[0],
+                              psnr=split_mean(split, key, "psnr")[0], mae=mae,
+                              mae_kept80=depth_mean(split, key, "mae_kept80")[0],
+                              runtime_ms=depth_mean(split, key, "runtime_ms")[0])
+                table.add([input_label, MODEL_NAMES[model], fmt(cov, 2),
+                           fmt(record["gap_db"], 2), fmt(record["coverage"], 2),
+                           fmt(record["psnr"], 2), fmt(mae, 2), fmt(record["mae_kept80"], 2),
+                           fmt_ms(record["runtime_ms"])], record)
+        tables.append(table)
+
+    # Per scene and input: novel view (covered PSNR, gap, coverage) and preview PSNR / depth MAE.
+    for input_name, input_label in INPUTS:
+        keys = [(input_name, m) for m in models
+                if any((input_name, m) in s["nvs"] or (input_name, m) in s["depth"] or
+                       (input_name, m) in s["errors"] for s in scenes)]
+        if not keys:
+            continue
+        nvs_header = ["Scene", "Split", "Oracle", "Exact, sky dropped"] + \
+            [MODEL_NAMES[m] for _, m in keys]
+        nvs_table = Table("synthetic_%s_nvs_per_scene" % input_name,
+                          "Synthetic scenes, %s input: novel view per scene" % input_label,
+                          "Cell: covered PSNR [dB] (gap to the oracle) / coverage. %s" % setup,
+                          nvs_header)
+        other_header = ["Scene", "Split"] + [MODEL_NAMES[m] for _, m in keys]
+        other_table = Table("synthetic_%s_preview_depth_per_scene" % input_name,
+                            "Synthetic scenes, %s input: preview PSNR and depth MAE per scene" %
+                            input_label,
+                            "Cell: preview PSNR [dB] (hole-filled frames, 16 poses) / depth MAE "
+                            "[m] (all pixels). %s" % setup, other_header)
+
+        def nvs_cell(run, gap=True):
+            if not run:
+                return "–"
+            text = fmt(run["covered_psnr"], 2)
+            if gap and run.get("gap_db") is not None:
+                text += " (%+.2f)" % run["gap_db"]
+            return text + " / " + fmt(run["coverage"], 2)
+
+        for s in scenes:
+            cells = [s["name"], s["split"], nvs_cell(s["nvs"].get("oracle"), False),
+                     nvs_cell(s["nvs"].get("exact_nosky"), False)]
+            other = [s["name"], s["split"]]
+            for key in keys:
+                if key in s["errors"] and key not in s["depth"]:
+                    cells.append(s["errors"][key])
+                    other.append(s["errors"][key])
+                    continue
+                run = s["nvs"].get(key)
+                cells.append(nvs_cell(run))
+                depth = s["depth"].get(key, {})
+                other.append("%s / %s" % (fmt(run["psnr"], 2) if run else "–",
+                                          fmt(depth.get("mae"), 2)))
+            record = dict(scene=s["name"], split=s["split"], args=s.get("args"),
+                          oracle=s["nvs"].get("oracle"), exact_nosky=s["nvs"].get("exact_nosky"),
+                          models={m: dict(nvs=s["nvs"].get(k), depth=s["depth"].get(k),
+                                          error=s["errors"].get(k)) for k in keys
+                                  for m in [k[1]]})
+            nvs_table.add(cells, record)
+            other_table.add(other, dict(scene=s["name"], split=s["split"]))
+        for split in SPLITS:
+            if not any(s["split"] == split for s in scenes):
+                continue
+            cells = ["**%s mean**" % split, split]
+            for kind in ("oracle", "exact_nosky"):
+                cov, n = split_mean(split, kind, "covered_psnr")
+                cells.append("%s / %s" % (fmt(cov, 2), fmt(split_mean(split, kind,
+                                                                       "coverage")[0], 2))
+                             if n else "–")
+            other = ["**%s mean**" % split, split]
+            record = dict(scene="%s mean" % split, split=split, models={})
+            for key in keys:
+                cov, n = split_mean(split, key, "covered_psnr")
+                gap = split_mean(split, key, "gap_db")[0]
+                coverage = split_mean(split, key, "coverage")[0]
+                psnr = split_mean(split, key, "psnr")[0]
+                mae = depth_mean(split, key, "mae")[0]
+                cells.append("%s (%+.2f) / %s" % (fmt(cov, 2), gap, fmt(coverage, 2))
+                             if n and math.isfinite(gap) else
+                             ("%s / %s" % (fmt(cov, 2), fmt(coverage, 2)) if n else "–"))
+                other.append("%s / %s" % (fmt(psnr, 2), fmt(mae, 2)))
+                record["models"][key[1]] = dict(covered_psnr=cov, gap_db=gap, coverage=coverage,
+                                                psnr=psnr, mae=mae, scenes=n)
+            nvs_table.add(cells, record)
+            other_table.add(other, record)
+        tables += [nvs_table, other_table]
+    return tables
+
+
+def tables(out_dir, seconds, threads, split="all"):
     raw = os.path.join(out_dir, "raw")
     if not os.path.isdir(raw):
         fail("%s: no raw results (run scripts/eval.sh first)" % raw)
@@ -417,22 +670,31 @@ def tables(out_dir, seconds, threads):
                                    "the LiDAR scan projected into the image (nearest return per "
                                    "pixel)", "")
     if os.path.isdir(os.path.join(raw, "synthetic")):
-        all_tables += suite_tables("synthetic", raw, "Synthetic street",
-                                   "the exact depth image depth_gt (sky excluded)",
-                                   " Synthetic scene: make_synthetic_scene --frames 16 --scale 0.5 "
-                                   "--seed 1 (968x608).")
+        all_tables = synthetic_tables(raw) + all_tables
+    lidar_truth = "the LiDAR scan projected into the image (nearest return per pixel)"
+    for suite, label, note in (
+            ("astyx", "Astyx HiRes (4D radar, VLP-16)",
+             " Astyx's VLP-16 is sparse and its returns can sit metres from the radar's on the "
+             "same object: a second opinion next to VoD's."),
+            ("nuscenes", "nuScenes (sparse radar, 32-beam LiDAR)", ""),
+            ("kitti", "KITTI object (HDL-64)", ""),
+            ("distorted_camera", "Distorted camera (LiDAR, plumb_bob lens)",
+             " The camera has lens distortion (camera_info D); see the data README.")):
+        if os.path.isdir(os.path.join(raw, suite)):
+            all_tables += suite_tables(suite, raw, label, lidar_truth, note)
     if not all_tables:
         fail("%s: no table could be built" % raw)
     when = time.strftime("%Y-%m-%d %H:%M", time.localtime())
-    head = ("Measured by `make eval` (scripts/eval.sh) on %s, %s cores%s. Runtimes are medians "
-            "over frames of the model's compute time (DepthCompleter::complete: angles, model, "
-            "retention) unless stated otherwise.\n" %
-            (when, threads, ", whole run %.0f s" % seconds if seconds else ""))
+    head = ("Measured by `make eval` (scripts/eval.sh) on %s, %s cores%s; synthetic scenes: "
+            "%s. Runtimes are medians over frames of the model's compute time "
+            "(DepthCompleter::complete: angles, model, retention) unless stated otherwise.\n" %
+            (when, threads, ", whole run %.0f s" % seconds if seconds else "",
+             "all" if split == "all" else "the %s split only" % split))
     text = "## Evaluation tables\n\n" + head + "\n" + "\n".join(t.markdown() for t in all_tables)
     with open(os.path.join(out_dir, "tables.md"), "w") as f:
         f.write(text)
     with open(os.path.join(out_dir, "tables.json"), "w") as f:
-        json.dump({"generated": when, "seconds": seconds, "threads": threads,
+        json.dump({"generated": when, "seconds": seconds, "threads": threads, "split": split,
                    "tables": {t.key: t.as_json() for t in all_tables}}, f, indent=1)
         f.write("\n")
     sys.stdout.write(text)
@@ -445,17 +707,19 @@ def main(argv):
         merge(argv[2], argv[3:])
         return
     if len(argv) >= 3 and argv[1] == "tables":
-        seconds, threads = None, "?"
+        seconds, threads, split = None, "?", "all"
         rest = argv[3:]
         while rest:
             if rest[0] == "--seconds" and len(rest) > 1:
                 seconds = float(rest[1])
             elif rest[0] == "--threads" and len(rest) > 1:
                 threads = rest[1]
+            elif rest[0] == "--split" and len(rest) > 1:
+                split = rest[1]
             else:
                 fail("unknown argument '%s'" % rest[0])
             rest = rest[2:]
-        tables(argv[2], seconds, threads)
+        tables(argv[2], seconds, threads, split)
         return
     sys.stderr.write(__doc__)
     sys.exit(2)

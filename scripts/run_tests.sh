@@ -8,7 +8,7 @@ export PATH=/usr/bin:/bin:$PATH
 # Debian's ROS profile scripts read unset variables: source them without nounset.
 set +u
 # shellcheck disable=SC1091
-source "$BUILD_DIR/devel/setup.bash"
+source "$(scripts/devel_dir.sh "$BUILD_DIR")/setup.bash"
 set -u
 export ROS_HOME=${ROS_HOME:-$(pwd)/$BUILD_DIR/ros_home}
 export ROS_LOG_DIR=${ROS_LOG_DIR:-$ROS_HOME/log}

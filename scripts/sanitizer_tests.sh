@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Sanitizer builds of `make test`. Usage: scripts/sanitizer_tests.sh [BUILD_DIR]
 #
-#   asan  BUILD_DIR_asan: test_core and test_tools (core, I/O, the tools run as processes) under
+#   asan  BUILD_DIR/asan: test_core and test_tools (core, I/O, the tools run as processes) under
 #         AddressSanitizer + LeakSanitizer + UndefinedBehaviorSanitizer, -fno-sanitize-recover=all.
-#   tsan  BUILD_DIR_tsan: the nodelet rostests (depth completion: scene, raw and compressed, and
+#   tsan  BUILD_DIR/tsan: the nodelet rostests (depth completion: scene, raw and compressed, and
 #         bad input; conditioning renderer) under ThreadSanitizer, nodes run standalone.
 #
 # Each sanitizer build is a second catkin configure of this package with its own compiler flags,
@@ -22,6 +22,8 @@ export PATH=/usr/bin:/bin:$PATH
 mkdir -p "$RESULTS"
 RESULTS=$(cd "$RESULTS" && pwd)
 SUPPRESSIONS=$(pwd)/test/tsan.supp
+# shellcheck source=devel_dir.sh
+source scripts/devel_dir.sh
 
 failures=0
 summary=()
@@ -52,12 +54,14 @@ junit_write() {  # suite name, file
   } > "$2"
 }
 
-# configure NAME CXX_FLAGS: a catkin configure into BUILD_DIR_NAME with the sanitizer's flags.
+# configure NAME CXX_FLAGS: a catkin configure into BUILD_DIR/NAME with the sanitizer's flags.
+# Below BUILD_DIR, so that rosrun (which skips <package>/build/) never finds their executables.
 # RelWithDebInfo without -DNDEBUG: optimised (the sanitizers already cost 2-20x) but with line
 # numbers in reports and Eigen's and libstdc++'s bounds assertions on.
 configure() {
-  local dir=${BUILD_DIR}_$1 flags=$2
+  local dir=${BUILD_DIR}/$1 flags=$2
   cmake -S . -B "$dir" -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON \
+    -DCATKIN_DEVEL_PREFIX="$(devel_dir "$dir")" \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" \
     -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g" -DCMAKE_CXX_FLAGS="$flags" \
     -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags"
@@ -72,7 +76,7 @@ build() {
           flags+=" -D_GLIBCXX_ASSERTIONS" ;;
     tsan) flags="-fsanitize=thread" ;;
   esac
-  { configure "$name" "$flags" && make --no-print-directory -C "${BUILD_DIR}_$name" -j"$JOBS" "$@"; } \
+  { configure "$name" "$flags" && make --no-print-directory -C "${BUILD_DIR}/$name" -j"$JOBS" "$@"; } \
     > "$log" 2>&1
 }
 
@@ -105,7 +109,7 @@ reports_clean() {  # report directory, combined output file
 minutes() { printf '%dm%02ds' $(($1 / 60)) $(($1 % 60)); }
 
 run_asan() {
-  local dir=${BUILD_DIR}_asan reports=$RESULTS/asan_reports
+  local dir=${BUILD_DIR}/asan reports=$RESULTS/asan_reports
   local start=$SECONDS
   junit_begin
   echo "[sanitizers] asan+ubsan: building test_core, test_tools and the tools they run into $dir"
@@ -125,7 +129,7 @@ run_asan() {
   local rc=0 out binary binary_rc
   for binary in test_core test_tools; do
     out=$RESULTS/asan_$binary.log
-    "$dir/devel/lib/multimodal_nvs/$binary" \
+    "$(devel_dir "$dir")/lib/multimodal_nvs/$binary" \
       --gtest_output="xml:$RESULTS/asan-gtest-$binary.xml" > "$out" 2>&1
     binary_rc=$?
     grep -E '^\[  FAILED  \]|^\[  PASSED  \]' "$out" | sort -u
@@ -147,7 +151,7 @@ run_asan() {
 }
 
 run_tsan() {
-  local dir=${BUILD_DIR}_tsan reports=$RESULTS/tsan_reports
+  local dir=${BUILD_DIR}/tsan reports=$RESULTS/tsan_reports
   local start=$SECONDS
   junit_begin
   echo "[sanitizers] tsan: building the nodelets, nodes and rostest gtests into $dir"
@@ -160,7 +164,7 @@ run_tsan() {
   (
     set +u
     # shellcheck disable=SC1091
-    source "$dir/devel/setup.bash"
+    source "$(devel_dir "$dir")/setup.bash"
     set -u
     export ROS_HOME=$(pwd)/$dir/ros_home
     export ROS_LOG_DIR=$ROS_HOME/log

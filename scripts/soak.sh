@@ -23,7 +23,8 @@ RATE=${SOAK_RATE:-3}
 SCALE=${SOAK_SCALE:-0.25}
 FRAMES=${SOAK_FRAMES:-40}
 SENSOR=${SOAK_SENSOR:-radar}
-TOOLS="$BUILD_DIR/devel/lib/multimodal_nvs"
+DEVEL=$("$REPO/scripts/devel_dir.sh" "$BUILD_DIR")
+TOOLS="$DEVEL/lib/multimodal_nvs"
 PY=/usr/bin/python3
 export PATH=/usr/bin:/bin:$PATH
 
@@ -34,7 +35,7 @@ fi
 for tool in make_synthetic_scene vod_to_bag; do
   [[ -x "$TOOLS/$tool" ]] || { echo "soak: $TOOLS/$tool is missing; build first" >&2; exit 1; }
 done
-[[ -f "$BUILD_DIR/devel/lib/libmultimodal_nvs_nodelets.so" ]] ||
+[[ -f "$DEVEL/lib/libmultimodal_nvs_nodelets.so" ]] ||
   { echo "soak: the nodelets are not built in $BUILD_DIR" >&2; exit 1; }
 
 mkdir -p "$OUT"
@@ -52,7 +53,7 @@ fi
 # Debian's ROS profile scripts read unset variables: no nounset while sourcing.
 set +u
 # shellcheck disable=SC1091
-source "$BUILD_DIR/devel/setup.bash"
+source "$DEVEL/setup.bash"
 set -u
 PORT=${SOAK_PORT:-$("$PY" -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')}
 export ROS_MASTER_URI="http://127.0.0.1:$PORT" ROS_HOSTNAME=127.0.0.1

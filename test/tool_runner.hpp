@@ -15,15 +15,21 @@ struct ToolResult {
   std::string output;
 };
 
-inline ToolResult runTool(const std::string& tool, const std::string& args) {
-  const std::string command = std::string(MMNVS_TOOL_DIR) + "/" + tool + " " + args + " 2>&1";
+// Runs a shell command line; stderr goes into the output too.
+inline ToolResult runCommand(const std::string& command_line) {
+  const std::string command = command_line + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return {-1, "popen failed: " + command};
   std::string output;
   std::array<char, 512> buffer;
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
+  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr)
+    output += buffer.data();
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+inline ToolResult runTool(const std::string& tool, const std::string& args) {
+  return runCommand(std::string(MMNVS_TOOL_DIR) + "/" + tool + " " + args);
 }
 
 }  // namespace test

@@ -4,13 +4,14 @@ set -eo pipefail  # no -u: catkin's setup scripts read unset variables
 BUILD_DIR=${BUILD_DIR:-build}
 export PATH=/usr/bin:/bin:$PATH
 # shellcheck disable=SC1091
-source "$BUILD_DIR/devel/setup.bash"
+DEVEL=$(scripts/devel_dir.sh "$BUILD_DIR")
+source "$DEVEL/setup.bash"
 export ROS_HOME=${ROS_HOME:-$(pwd)/$BUILD_DIR/ros_home}
 export ROS_LOG_DIR=${ROS_LOG_DIR:-$ROS_HOME/log}
 mkdir -p "$ROS_LOG_DIR"
 BENCH_PORT=${BENCH_ROS_PORT:-11411}
 export ROS_MASTER_URI=http://localhost:$BENCH_PORT
-BENCH_BIN=$BUILD_DIR/devel/lib/multimodal_nvs
+BENCH_BIN=$DEVEL/lib/multimodal_nvs
 
 # start_launch LOG_NAME LAUNCH_FILE ARGS...: roslaunch (with its master) in the background; waits
 # for the node to come up.

@@ -23,9 +23,17 @@ void declareOptions(mm::cli::Args& args) {
   args.option("supersample", 1, "colour rays per pixel per axis (0: 2 if scale <= 0.5, else 1)",
               "0");
   args.option("speed", 1, "driving speed in m/s (10 frames per second)", "4");
+  args.option("camera-height", 1, "camera height above the road (m)", "1.3");
+  args.option("camera-pitch", 1, "camera pitch above the horizon (deg, positive: looking up)", "0");
+  args.option("vehicles", 1, "extra stopped cars, vans and trucks in the driving lanes", "0");
+  args.option("pedestrians", 1, "pedestrians on the sidewalks and crossing ahead", "0");
+  args.option("poles", 1, "extra posts at the curb", "0");
+  args.option("radar-candidates", 1, "radar beam directions tried per scan (return density)",
+              "1600");
   args.option("radar-range-sigma", 1, "radar range noise (m)", "0.1");
   args.option("radar-angle-sigma", 2, "radar azimuth and elevation noise (deg)", "0.25 0.5");
   args.option("radar-clutter", 1, "share of radar returns that are clutter", "0.05");
+  args.option("lidar-beams", 1, "LiDAR beams: 16 (VLP-16), 32 (HDL-32E) or 64 (HDL-64E)", "64");
   args.option("lidar-range-sigma", 1, "LiDAR range noise (m)", "0.02");
   args.option("lidar-azimuth-step", 1, "LiDAR azimuth resolution (deg)", "0.2");
   args.option("jpeg-quality", 1, "JPEG quality of the camera images", "95");
@@ -64,6 +72,17 @@ int run(int argc, char** argv) {
   p.scale = args.number("scale", p.scale);
   p.supersample = args.integer("supersample", p.supersample);
   p.path.speed = args.number("speed", p.path.speed);
+  p.camera_height = args.number("camera-height", p.camera_height);
+  p.camera_pitch_deg = args.number("camera-pitch", p.camera_pitch_deg);
+  p.extra_vehicles = args.integer("vehicles", p.extra_vehicles);
+  p.pedestrians = args.integer("pedestrians", p.pedestrians);
+  p.extra_poles = args.integer("poles", p.extra_poles);
+  p.radar.candidates = args.integer("radar-candidates", p.radar.candidates);
+  const int beams = args.integer("lidar-beams", p.lidar.rings);
+  if (beams != 16 && beams != 32 && beams != 64) {
+    throw mm::cli::UsageError("--lidar-beams must be 16, 32 or 64, got " + std::to_string(beams));
+  }
+  p.lidar = syn::LidarParams::velodyne(beams);
   p.radar.range_sigma = args.number("radar-range-sigma", p.radar.range_sigma);
   if (args.has("radar-angle-sigma")) {
     const auto& a = args.list("radar-angle-sigma");

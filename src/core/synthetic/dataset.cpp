@@ -66,6 +66,13 @@ void SyntheticDatasetParams::validate() const {
           "radar noise must be >= 0");
   require(lidar.rings >= 1 && lidar.azimuth_step_deg > 0.01 && lidar.range_sigma >= 0,
           "lidar: rings >= 1, azimuth step > 0.01 deg, noise >= 0");
+  require(std::isfinite(camera_height) && camera_height >= 0.3 && camera_height <= 5.0,
+          "camera height must be in [0.3, 5] m");
+  require(std::isfinite(camera_pitch_deg) && std::abs(camera_pitch_deg) <= 30.0,
+          "camera pitch must be in [-30, 30] deg");
+  require(extra_vehicles >= 0 && extra_vehicles <= 200 && pedestrians >= 0 && pedestrians <= 500 &&
+              extra_poles >= 0 && extra_poles <= 500,
+          "occluders: vehicles 0..200, pedestrians and poles 0..500");
 }
 
 int SyntheticDatasetParams::effectiveSupersample() const {
@@ -74,13 +81,23 @@ int SyntheticDatasetParams::effectiveSupersample() const {
 }
 
 SyntheticDataset::SyntheticDataset(const SyntheticDatasetParams& params)
-    : params_(params), rig_(SensorRig::standard()), camera_(CameraModel::vod(params.scale)) {
+    : params_(params),
+      rig_(SensorRig::standard(params.camera_height, params.camera_pitch_deg)),
+      camera_(CameraModel::vod(params.scale)) {
   params_.validate();
   StreetLayout layout;
   // The street reaches well beyond the end of the drive.
   const double drive_end =
       params_.path.start_x + params_.path.speed * params_.path.frame_interval_s * params_.frames;
   layout.length = std::max(layout.length, drive_end - layout.start_x + 220.0);
+  // Occluders where the cameras look: from just ahead of the start to 70 m beyond the end, out
+  // of the ego lane until 8 m past the drive's end (the car body's front is 1.6 m ahead).
+  layout.extra_vehicles = params_.extra_vehicles;
+  layout.pedestrians = params_.pedestrians;
+  layout.extra_poles = params_.extra_poles;
+  layout.occluder_min_x = params_.path.start_x + 4.0;
+  layout.occluder_max_x = drive_end + 70.0;
+  layout.ego_lane_clear_until_x = drive_end + 8.0;
   scene_ = std::make_unique<SyntheticScene>(params_.seed, layout);
   pool_ = std::make_unique<ThreadPool>(params_.threads);
 }
@@ -156,7 +173,16 @@ void SyntheticDataset::write(const std::string& root,
          << ", \"radar_azimuth_sigma_deg\": " << params_.radar.azimuth_sigma_deg
          << ", \"radar_elevation_sigma_deg\": " << params_.radar.elevation_sigma_deg
          << ", \"radar_clutter_fraction\": " << params_.radar.clutter_fraction
+         << ", \"radar_candidates\": " << params_.radar.candidates
          << ", \"lidar_range_sigma\": " << params_.lidar.range_sigma
+         << ", \"lidar_beams\": " << params_.lidar.rings << ", \"lidar_elevation_deg\": ["
+         << params_.lidar.elevation_min_deg << ", " << params_.lidar.elevation_max_deg << "]"
+         << ", \"lidar_azimuth_step_deg\": " << params_.lidar.azimuth_step_deg
+         << ", \"camera_height\": " << params_.camera_height
+         << ", \"camera_pitch_deg\": " << params_.camera_pitch_deg
+         << ", \"extra_vehicles\": " << params_.extra_vehicles
+         << ", \"pedestrians\": " << params_.pedestrians
+         << ", \"extra_poles\": " << params_.extra_poles
          << ", \"depth_gt\": \"camera z in metres, 0 = sky\"}\n";
     if (!meta) throw InputError(root + "/scene.json: cannot write");
   }

@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 #include <set>
+#include <string>
+
+#include "multimodal_nvs/core/common/errors.hpp"
 
 namespace multimodal_nvs {
 namespace synthetic {
@@ -29,15 +32,17 @@ std::uint8_t toByte(float linear) {
 
 }  // namespace
 
-SensorRig SensorRig::standard() {
+SensorRig SensorRig::standard(double camera_height, double camera_pitch_deg) {
   SensorRig rig;
   Eigen::Matrix3d optical;
   optical.col(0) = -Eigen::Vector3d::UnitY();  // camera x: right
   optical.col(1) = -Eigen::Vector3d::UnitZ();  // camera y: down
   optical.col(2) = Eigen::Vector3d::UnitX();   // camera z: forward
   rig.camera_in_body = Eigen::Isometry3d::Identity();
-  rig.camera_in_body.linear() = optical;
-  rig.camera_in_body.translation() = Eigen::Vector3d(0.0, 0.0, 1.3);
+  // Pitching up turns the optical axis (body x) towards body z: a negative turn about body y.
+  rig.camera_in_body.linear() =
+      Eigen::AngleAxisd(-camera_pitch_deg * kDeg, Eigen::Vector3d::UnitY()).matrix() * optical;
+  rig.camera_in_body.translation() = Eigen::Vector3d(0.0, 0.0, camera_height);
 
   rig.radar_in_body = Eigen::Isometry3d::Identity();
   rig.radar_in_body.linear() = Eigen::AngleAxisd(-2.0 * kDeg, Eigen::Vector3d::UnitY()).matrix();
@@ -45,7 +50,7 @@ SensorRig SensorRig::standard() {
 
   rig.lidar_in_body = Eigen::Isometry3d::Identity();
   rig.lidar_in_body.linear() = Eigen::AngleAxisd(1.0 * kDeg, Eigen::Vector3d::UnitZ()).matrix();
-  rig.lidar_in_body.translation() = Eigen::Vector3d(-0.3, 0.0, 1.9);
+  rig.lidar_in_body.translation() = Eigen::Vector3d(-0.3, 0.0, camera_height + 0.6);
   return rig;
 }
 
@@ -55,6 +60,26 @@ SensorToCamera SensorRig::radarToCamera() const {
 
 SensorToCamera SensorRig::lidarToCamera() const {
   return toSensorToCamera(camera_in_body.inverse() * lidar_in_body);
+}
+
+LidarParams LidarParams::velodyne(int beams) {
+  LidarParams p;
+  p.rings = beams;
+  switch (beams) {
+    case 64:
+      break;
+    case 32:
+      p.elevation_max_deg = 10.67;
+      p.elevation_min_deg = -30.67;
+      break;
+    case 16:
+      p.elevation_max_deg = 15.0;
+      p.elevation_min_deg = -15.0;
+      break;
+    default:
+      throw InputError("LiDAR beams must be 16, 32 or 64, got " + std::to_string(beams));
+  }
+  return p;
 }
 
 CameraModel CameraModel::vod(double scale) {

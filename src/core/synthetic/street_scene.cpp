@@ -157,6 +157,7 @@ SyntheticScene::SyntheticScene(std::uint64_t seed, const StreetLayout& layout)
   Box start = makeBox(layout_.start_x - 15, -45, 0, layout_.start_x - 3, 45, 13, Material::kFacade,
                       kWallColors[0], static_cast<std::uint32_t>(rng.next()));
   boxes_.push_back(start);
+  addOccluders();
   buildHierarchy();
 }
 
@@ -185,26 +186,31 @@ void SyntheticScene::addBuildings(Random& rng, int side) {
   }
 }
 
+void SyntheticScene::addCar(double x0, double yc, double length, double width,
+                            const Eigen::Vector3f& color, bool facing_plus_x) {
+  const double y0 = yc - 0.5 * width, y1 = yc + 0.5 * width;
+  boxes_.push_back(makeBox(x0, y0, 0.30, x0 + length, y1, 0.98, Material::kCarBody, color));
+  // The cabin sits towards the rear of the car.
+  const double rear = facing_plus_x ? x0 : x0 + length;
+  const double dir = facing_plus_x ? 1.0 : -1.0;
+  boxes_.push_back(makeBox(rear + dir * 0.17 * length, y0 + 0.1, 0.98, rear + dir * 0.74 * length,
+                           y1 - 0.1, 1.44, Material::kCarCabin, color));
+  addAxles(x0, y0, y1, length);
+}
+
+void SyntheticScene::addAxles(double x0, double y0, double y1, double length) {
+  // One box per axle: from the side it is the tyre, under the car it sits in the shadow.
+  for (double fx : {0.18, 0.80}) {
+    const double xc = x0 + fx * length;
+    boxes_.push_back(makeBox(xc - 0.31, y0 + 0.04, 0.0, xc + 0.31, y1 - 0.04, 0.62, Material::kTire,
+                             rgb(0.05, 0.05, 0.05)));
+  }
+}
+
 void SyntheticScene::addCars(Random& rng, int side) {
   const double x_end = layout_.start_x + layout_.length - 10.0;
   const double lane_y = layout_.lane_width + 0.5 * layout_.parking_width;
   double x = layout_.start_x + 6.0;
-  auto addCar = [&](double x0, double yc, double length, double width, const Eigen::Vector3f& color,
-                    bool facing_plus_x) {
-    const double y0 = yc - 0.5 * width, y1 = yc + 0.5 * width;
-    boxes_.push_back(makeBox(x0, y0, 0.30, x0 + length, y1, 0.98, Material::kCarBody, color));
-    // The cabin sits towards the rear of the car.
-    const double rear = facing_plus_x ? x0 : x0 + length;
-    const double dir = facing_plus_x ? 1.0 : -1.0;
-    boxes_.push_back(makeBox(rear + dir * 0.17 * length, y0 + 0.1, 0.98, rear + dir * 0.74 * length,
-                             y1 - 0.1, 1.44, Material::kCarCabin, color));
-    // One box per axle: from the side it is the tyre, under the car it sits in the shadow.
-    for (double fx : {0.18, 0.80}) {
-      const double xc = x0 + fx * length;
-      boxes_.push_back(makeBox(xc - 0.31, y0 + 0.04, 0.0, xc + 0.31, y1 - 0.04, 0.62,
-                               Material::kTire, rgb(0.05, 0.05, 0.05)));
-    }
-  };
   while (x < x_end) {
     if (rng.chance(0.22)) {
       x += rng.uniform(4.0, 9.0);
@@ -263,6 +269,93 @@ void SyntheticScene::addStreetFurniture(Random& rng, int side) {
     boxes_.push_back(makeBox(x, side * y_curb, 0.0, x1, side * y_far, layout_.sidewalk_height,
                              Material::kSidewalk, rgb(0.62, 0.52, 0.47)));
   }
+}
+
+void SyntheticScene::addOccluders() {
+  if (layout_.extra_vehicles <= 0 && layout_.pedestrians <= 0 && layout_.extra_poles <= 0) return;
+  // A stream of its own: the street without occluders stays the same for every seed.
+  Random rng = Random::derived(seed_, 0x0cc1d);
+  const double x0 = layout_.occluder_min_x, x1 = std::max(x0 + 1.0, layout_.occluder_max_x);
+  const double clear = layout_.ego_lane_clear_until_x;
+  for (int i = 0; i < layout_.extra_vehicles; ++i) {
+    // The oncoming lane anywhere; the ego lane only beyond the stretch the drive passes.
+    const bool ego_lane = clear < x1 - 8.0 && rng.chance(0.5);
+    const double x = ego_lane ? rng.uniform(clear, x1) : rng.uniform(x0, x1);
+    const double yc = (ego_lane ? -0.5 : 0.5) * layout_.lane_width + rng.uniform(-0.25, 0.25);
+    const Eigen::Vector3f color = jitter(rng, kCarColors[rng.index(8)], 0.05);
+    const double kind = rng.uniform();
+    if (kind < 0.55) {
+      addCar(x, yc, rng.uniform(3.9, 4.8), rng.uniform(1.72, 1.9), color, ego_lane);
+      continue;
+    }
+    // A van (one tall body) or a truck (cab and a box body, 3.4 m high).
+    const bool truck = kind > 0.8;
+    const double length = truck ? rng.uniform(7.0, 9.5) : rng.uniform(4.9, 5.9);
+    const double width = truck ? 2.45 : 2.0;
+    const double y0 = yc - 0.5 * width, y1 = yc + 0.5 * width;
+    const double top = truck ? 3.4 : rng.uniform(2.0, 2.5);
+    // Traffic in the ego lane drives away (+x), oncoming traffic towards the camera; the cab is
+    // at the front.
+    const double cab = truck ? 1.9 : 0.0;
+    const double cab_x0 = ego_lane ? x + length - cab : x;
+    const double body_x0 = ego_lane ? x : x + cab, body_x1 = body_x0 + length - cab;
+    boxes_.push_back(makeBox(body_x0, y0, 0.45, body_x1, y1, top, Material::kCarBody,
+                             truck ? jitter(rng, rgb(0.9, 0.9, 0.88), 0.05) : color));
+    if (truck) {
+      boxes_.push_back(makeBox(cab_x0, y0 + 0.05, 0.45, cab_x0 + cab, y1 - 0.05, 2.9,
+                               Material::kCarBody, color));
+    }
+    addAxles(x, y0, y1, length);
+  }
+  for (int i = 0; i < layout_.pedestrians; ++i) {
+    const double x = rng.uniform(x0, x1);
+    const int side = rng.chance(0.5) ? 1 : -1;
+    if (x > clear && rng.chance(0.25)) {  // crossing the road ahead
+      addPedestrian(rng, x, rng.uniform(-layout_.curbY(), layout_.curbY()));
+    } else {
+      addPedestrian(rng, x,
+                    side * (layout_.curbY() + rng.uniform(0.5, layout_.sidewalk_width - 0.5)));
+    }
+  }
+  for (int i = 0; i < layout_.extra_poles; ++i) {
+    const double x = rng.uniform(x0, x1);
+    const double y = (rng.chance(0.5) ? 1 : -1) * (layout_.curbY() + rng.uniform(0.25, 1.4));
+    const double r = rng.uniform(0.04, 0.16), h = rng.uniform(2.2, 5.0);
+    const Eigen::Vector3f color = rng.chance(0.5) ? rgb(0.22, 0.25, 0.24) : rgb(0.35, 0.27, 0.2);
+    boxes_.push_back(makeBox(x - r, y - r, 0.0, x + r, y + r, h, Material::kPole, color));
+  }
+}
+
+void SyntheticScene::addPedestrian(Random& rng, double x, double y) {
+  static const Eigen::Vector3f kShirts[] = {rgb(0.75, 0.12, 0.1),  rgb(0.15, 0.3, 0.6),
+                                            rgb(0.9, 0.88, 0.82),  rgb(0.2, 0.45, 0.25),
+                                            rgb(0.85, 0.65, 0.15), rgb(0.12, 0.12, 0.13)};
+  static const Eigen::Vector3f kTrousers[] = {rgb(0.1, 0.12, 0.22), rgb(0.15, 0.15, 0.15),
+                                              rgb(0.45, 0.38, 0.28)};
+  const double h = rng.uniform(1.55, 1.95);
+  // Walking along the street: shoulders across it (along y); crossing: shoulders along x.
+  const bool along_x = std::abs(y) > layout_.curbY();
+  auto part = [&](double across0, double across1, double depth, double z0, double z1, Material m,
+                  const Eigen::Vector3f& color, std::uint32_t variant) {
+    const double a0 = along_x ? y + across0 : x + across0, a1 = along_x ? y + across1 : x + across1;
+    const double c = along_x ? x : y;
+    if (along_x) {
+      boxes_.push_back(makeBox(c - depth, a0, z0, c + depth, a1, z1, m, color, variant));
+    } else {
+      boxes_.push_back(makeBox(a0, c - depth, z0, a1, c + depth, z1, m, color, variant));
+    }
+  };
+  const Eigen::Vector3f shirt = jitter(rng, kShirts[rng.index(6)], 0.08);
+  const Eigen::Vector3f trousers = jitter(rng, kTrousers[rng.index(3)], 0.08);
+  const Eigen::Vector3f skin = jitter(rng, rgb(0.78, 0.6, 0.48), 0.2);
+  const auto variant = static_cast<std::uint32_t>(rng.next());
+  const double hip = 0.48 * h, shoulder = 0.82 * h, stride = rng.uniform(0.0, 0.12);
+  part(-0.17, -0.03, 0.09, 0.0, hip, Material::kClothing, trousers, 0);  // legs, mid-stride
+  part(0.03, 0.17, 0.09 + stride, 0.0, hip, Material::kClothing, trousers, 0);
+  part(-0.2, 0.2, 0.13, hip, shoulder, Material::kClothing, shirt, variant);               // torso
+  part(-0.28, -0.2, 0.06, 0.5 * h, shoulder - 0.02, Material::kClothing, shirt, variant);  // arms
+  part(0.2, 0.28, 0.06, 0.5 * h, shoulder - 0.02, Material::kClothing, shirt, variant);
+  part(-0.1, 0.1, 0.11, shoulder + 0.02, h, Material::kSkin, skin, 0);  // head
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -623,6 +716,15 @@ Eigen::Vector3f SyntheticScene::albedo(const Hit& hit, double footprint, bool& g
     case Material::kPole:
     case Material::kLampHead:
       return boxes_[hit.box].color;
+    case Material::kClothing: {
+      // Every other shirt is striped (a texture edge that is no depth edge).
+      const Box& b = boxes_[hit.box];
+      if ((b.variant & 1) == 0) return b.color;
+      const double stripe = gridLine(p.z(), 0.14, 0.035, footprint);
+      return b.color * static_cast<float>(1.0 - 0.6 * stripe);
+    }
+    case Material::kSkin:
+      return boxes_[hit.box].color;
     case Material::kSignPlate: {
       const Box& b = boxes_[hit.box];
       if (std::abs(n.x()) < 0.5) return rgb(0.5, 0.5, 0.5);
@@ -701,6 +803,9 @@ double SyntheticScene::radarReflectivity(Material m) {
       return 0.6;
     case Material::kSignPlate:
       return 0.9;
+    case Material::kClothing:
+    case Material::kSkin:
+      return 0.3;  // people reflect weakly (about -8 dBsm)
   }
   return 0.1;
 }
@@ -727,6 +832,9 @@ double SyntheticScene::radarCrossSectionDb(Material m) {
       return -3.0;
     case Material::kSignPlate:
       return 5.0;
+    case Material::kClothing:
+    case Material::kSkin:
+      return -8.0;
   }
   return -10.0;
 }

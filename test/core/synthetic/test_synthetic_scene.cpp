@@ -15,6 +15,7 @@
 #include <set>
 #include <sstream>
 
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/io/point_files.hpp"
@@ -389,6 +390,163 @@ TEST(SyntheticScene, ToolWritesTheLayoutAndRejectsBadOptions) {
   };
   for (const auto& c : cases) {
     const auto r = runTool(c.args);
+    EXPECT_EQ(r.exit_code, c.code) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+  }
+}
+
+TEST(SyntheticScene, CameraHeightAndPitchSetWhereTheRoadIs) {
+  syn::SyntheticDatasetParams p = smallParams(5, 1);
+  p.path.sway = 0.0;  // no yaw: the road's depth below the centre column is analytic
+  for (const double height : {1.2, 2.2}) {
+    for (const double pitch_deg : {-4.0, 8.0}) {
+      SCOPED_TRACE("height " + std::to_string(height) + " pitch " + std::to_string(pitch_deg));
+      p.camera_height = height;
+      p.camera_pitch_deg = pitch_deg;
+      const syn::SyntheticDataset dataset(p);
+      EXPECT_NEAR(dataset.cameraToOdom(0).translation().z(), height, 1e-12);
+      const syn::SyntheticFrame f = dataset.frame(0);
+      const auto& k = dataset.camera().intrinsics;
+      const int h = dataset.camera().size.height;
+      const double pitch = pitch_deg * M_PI / 180.0;
+      // The ray through (cx, v) falls (v - cy) / fy cos(pitch) - sin(pitch) per metre of camera
+      // z; it meets the road at z = height / that.
+      for (int v = h - 8; v < h; ++v) {
+        const double fall = (v - k.cy) / k.fy * std::cos(pitch) - std::sin(pitch);
+        ASSERT_GT(fall, 0.0);
+        EXPECT_NEAR(f.camera.depth.at<float>(v, static_cast<int>(k.cx)), height / fall,
+                    1e-4 * height / fall)
+            << "row " << v;
+      }
+      // The LiDAR stays level on the roof, 0.6 m above the camera.
+      const Eigen::Matrix<double, 3, 4> lidar = dataset.rig().lidarToCamera();
+      const Eigen::Vector3d lidar_in_camera = lidar.col(3);
+      const Eigen::Vector3d up_in_camera =
+          dataset.rig().camera_in_body.linear().transpose() * Eigen::Vector3d::UnitZ();
+      EXPECT_NEAR(lidar_in_camera.dot(up_in_camera), 0.6, 1e-9);
+    }
+  }
+}
+
+TEST(SyntheticScene, LidarBeamsAndFieldOfViewFollowTheVelodyneModel) {
+  const double deg = M_PI / 180.0;
+  for (const int beams : {16, 32, 64}) {
+    SCOPED_TRACE(std::to_string(beams) + " beams");
+    syn::SyntheticDatasetParams p = noiseFree(smallParams(9, 1));
+    p.lidar = syn::LidarParams::velodyne(beams);
+    p.lidar.range_sigma = 0.0;
+    p.lidar.azimuth_step_deg = 1.0;
+    const syn::SyntheticFrame f = syn::SyntheticDataset(p).frame(0);
+    std::set<long> rings;
+    double lowest = 90.0, highest = -90.0;
+    for (const auto& r : f.lidar) {
+      const double el = std::atan2(r.position.z(), r.position.head<2>().norm()) / deg;
+      rings.insert(std::lround(el * 100.0));
+      lowest = std::min(lowest, el);
+      highest = std::max(highest, el);
+    }
+    EXPECT_EQ(rings.size(), static_cast<std::size_t>(beams));
+    EXPECT_NEAR(lowest, p.lidar.elevation_min_deg, 1e-3);
+    EXPECT_LE(highest, p.lidar.elevation_max_deg + 1e-3);
+  }
+  EXPECT_EQ(syn::LidarParams::velodyne(64).elevation_min_deg, syn::LidarParams().elevation_min_deg);
+  EXPECT_THROW(syn::LidarParams::velodyne(20), multimodal_nvs::InputError);
+}
+
+TEST(SyntheticScene, RadarDensityAndClutterFollowTheirParameters) {
+  auto returns = [](int candidates, double clutter) {
+    syn::SyntheticDatasetParams p = smallParams(6, 1);
+    p.radar.candidates = candidates;
+    p.radar.clutter_fraction = clutter;
+    const syn::SyntheticFrame f = syn::SyntheticDataset(p).frame(0);
+    int ghosts = 0;
+    for (const auto& r : f.radar)
+      ghosts += r.clutter;
+    return std::make_pair(static_cast<int>(f.radar.size()), ghosts);
+  };
+  const auto sparse = returns(300, 0.0), dense = returns(4000, 0.0);
+  EXPECT_EQ(sparse.second, 0);
+  EXPECT_GT(sparse.first, 10);
+  EXPECT_GT(dense.first, 4 * sparse.first);
+  const auto cluttered = returns(1600, 0.3);
+  EXPECT_NEAR(double(cluttered.second) / cluttered.first, 0.3, 0.03);
+}
+
+TEST(SyntheticScene, OccludersStandWhereTheDriveSeesThemAndLeaveTheRestOfTheStreet) {
+  syn::SyntheticDatasetParams p = smallParams(21, 4);
+  const syn::SyntheticDataset plain(p);
+  p.extra_vehicles = 8;
+  p.pedestrians = 30;
+  p.extra_poles = 12;
+  const syn::SyntheticDataset busy(p);
+  const auto& a = plain.scene().boxes();
+  const auto& b = busy.scene().boxes();
+  ASSERT_GT(b.size(), a.size() + 8 * 3 + 30 * 6);
+  // The street without occluders is unchanged: the occluders come after it, from their own stream.
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].min, b[i].min) << "box " << i;
+    ASSERT_EQ(a[i].material, b[i].material) << "box " << i;
+  }
+  const auto& layout = busy.scene().layout();
+  EXPECT_EQ(layout.pedestrians, 30);
+  int people = 0, striped = 0;
+  for (std::size_t i = a.size(); i < b.size(); ++i) {
+    const syn::Box& box = b[i];
+    EXPECT_GE(box.max.x(), layout.occluder_min_x - 1.0);
+    EXPECT_LE(box.min.x(), layout.occluder_max_x + 10.0);
+    // Nothing stands in the ego lane where the drive passes (lane -3..0 m, up to the clear x).
+    const bool in_ego_lane = box.max.y() > -layout.lane_width && box.min.y() < 0.0;
+    if (in_ego_lane) EXPECT_GE(box.max.x(), layout.ego_lane_clear_until_x) << "box " << i;
+    if (box.material == syn::Material::kSkin) ++people;
+    if (box.material == syn::Material::kClothing && (box.variant & 1)) ++striped;
+    EXPECT_LE(box.max.z(), 5.0);
+  }
+  EXPECT_EQ(people, 30);
+  EXPECT_GT(striped, 0);
+  // Pedestrians are seen: some camera pixels of the first frames show clothing or skin.
+  int seen = 0;
+  for (int i = 0; i < 4 && seen == 0; ++i) {
+    const Eigen::Isometry3d cam = busy.cameraToOdom(i);
+    const auto& k = busy.camera().intrinsics;
+    for (int v = 0; v < busy.camera().size.height; ++v) {
+      for (int u = 0; u < busy.camera().size.width; ++u) {
+        const Eigen::Vector3d d((u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0);
+        syn::Hit hit;
+        const syn::Ray ray{cam.translation(), cam.linear() * d.normalized()};
+        if (busy.scene().intersect(ray, hit)) {
+          seen += hit.material == syn::Material::kClothing || hit.material == syn::Material::kSkin;
+        }
+      }
+    }
+  }
+  EXPECT_GT(seen, 0);
+}
+
+TEST(SyntheticScene, ToolTakesTheSceneVariationsAndRejectsBadOnes) {
+  const std::string root = freshDir("tool_variations");
+  const auto ok = runTool("--output " + root +
+                          " --scale 0.05 --frames 1 --quiet --lidar-azimuth-step 2 "
+                          "--camera-height 2.2 --camera-pitch -4 --lidar-beams 16 "
+                          "--radar-candidates 500 --radar-clutter 0.2 --vehicles 3 "
+                          "--pedestrians 5 --poles 4 --speed 10");
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  const std::string meta = readBytes(root + "/scene.json");
+  for (const char* key : {"\"camera_height\": 2.2", "\"camera_pitch_deg\": -4",
+                          "\"lidar_beams\": 16", "\"radar_candidates\": 500", "\"pedestrians\": 5",
+                          "\"extra_poles\": 4", "\"extra_vehicles\": 3"}) {
+    EXPECT_NE(meta.find(key), std::string::npos) << key << " not in " << meta;
+  }
+  const struct {
+    std::string args, expected;
+    int code;
+  } cases[] = {
+      {"--lidar-beams 20", "--lidar-beams", 2},
+      {"--camera-height 0.1", "camera height", 1},
+      {"--camera-pitch 45", "camera pitch", 1},
+      {"--pedestrians -1", "occluders", 1},
+  };
+  for (const auto& c : cases) {
+    const auto r = runTool("--output " + root + " --scale 0.05 --frames 1 --quiet " + c.args);
     EXPECT_EQ(r.exit_code, c.code) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
   }

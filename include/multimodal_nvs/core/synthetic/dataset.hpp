@@ -26,7 +26,12 @@ struct SyntheticDatasetParams {
   double scale = 1.0;   ///< image size and intrinsics relative to the VoD camera
   int supersample = 0;  ///< rays per pixel per axis for colour; 0: 2 when scale <= 0.5, else 1
   int jpeg_quality = 95;
-  int threads = 0;  ///< 0: all cores
+  int threads = 0;                ///< 0: all cores
+  double camera_height = 1.3;     ///< m above the road
+  double camera_pitch_deg = 0.0;  ///< optical axis above the horizon (positive: looking up)
+  int extra_vehicles = 0;         ///< occluders along the drive, see StreetLayout
+  int pedestrians = 0;
+  int extra_poles = 0;
   DrivePath path;
   RadarParams radar;
   LidarParams lidar;

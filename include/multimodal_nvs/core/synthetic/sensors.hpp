@@ -21,10 +21,11 @@ struct SensorRig {
   Eigen::Isometry3d radar_in_body;
   Eigen::Isometry3d lidar_in_body;
 
-  /// Camera 1.3 m above the ground; radar at the front bumper (1.6 m ahead, 0.2 m right, 0.5 m
-  /// high, pitched 2 deg up); LiDAR on the roof (0.3 m behind, 0.6 m above the camera, yawed 1
-  /// deg).
-  static SensorRig standard();
+  /// Camera `camera_height` m above the ground, its optical axis `camera_pitch_deg` above the
+  /// horizon (positive: looking up, the convention of the `ground_pitch_deg` parameter); radar at
+  /// the front bumper (1.6 m ahead, 0.2 m right, 0.5 m high, pitched 2 deg up); LiDAR on the roof
+  /// (0.3 m behind, 0.6 m above the camera, level, yawed 1 deg).
+  static SensorRig standard(double camera_height = 1.3, double camera_pitch_deg = 0.0);
 
   /// KITTI `Tr_velo_to_cam` of each sensor (sensor -> camera).
   SensorToCamera radarToCamera() const;
@@ -110,6 +111,11 @@ struct LidarParams {
   double max_range = 120.0;
   double range_sigma = 0.02;  ///< m
   double dropout = 0.02;      ///< probability that a return is missing
+
+  /// The rings and vertical field of view of a Velodyne with `beams` = 16 (VLP-16, +-15 deg),
+  /// 32 (HDL-32E, +10.67..-30.67 deg) or 64 (HDL-64E, the defaults); other counts throw
+  /// InputError.
+  static LidarParams velodyne(int beams);
 };
 
 /// One LiDAR return in the LiDAR frame; intensity 0..255 like VoD.

@@ -40,6 +40,8 @@ enum class Material : std::uint8_t {
   kPole,  ///< lamp posts, sign posts, bollards
   kLampHead,
   kSignPlate,
+  kClothing,  ///< pedestrians: striped clothes, trousers
+  kSkin,      ///< pedestrians' heads and hands
 };
 
 struct Box {
@@ -72,6 +74,17 @@ struct StreetLayout {
   double sidewalk_width = 3.3;  ///< raised pavement between curb and facades
   double sidewalk_height = 0.12;
   double max_distance = 1500.0;  ///< rays that hit nothing nearer see the sky
+
+  /// Extra occluders placed along [occluder_min_x, occluder_max_x] (the stretch the drive sees),
+  /// from their own random stream: with all counts 0 the street is the same as without them.
+  int extra_vehicles = 0;  ///< stopped cars, vans and trucks in both driving lanes
+  int pedestrians = 0;     ///< standing or walking on the sidewalks; some cross the road ahead
+  int extra_poles = 0;     ///< posts and thin trees at the curb
+  double occluder_min_x = 4.0;
+  double occluder_max_x = 80.0;
+  /// Vehicles and crossing pedestrians stay out of the ego lane (y < 0) before this x, where the
+  /// drive passes.
+  double ego_lane_clear_until_x = 12.0;
 
   double curbY() const { return lane_width + parking_width; }
   double facadeY() const { return curbY() + sidewalk_width; }
@@ -122,7 +135,12 @@ class SyntheticScene {
   void buildHierarchy();
   void addBuildings(Random& rng, int side);
   void addCars(Random& rng, int side);
+  void addCar(double x0, double yc, double length, double width, const Eigen::Vector3f& color,
+              bool facing_plus_x);
+  void addAxles(double x0, double y0, double y1, double length);
   void addStreetFurniture(Random& rng, int side);
+  void addOccluders();
+  void addPedestrian(Random& rng, double x, double y);
 
   /// sRGB albedo of a hit; `footprint` is the pixel size on the surface (m); sets `glass`.
   Eigen::Vector3f albedo(const Hit& hit, double footprint, bool& glass) const;
