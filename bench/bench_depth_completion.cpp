@@ -90,28 +90,24 @@ void BM_Radar08350_LocalGpExact_Retain80(benchmark::State& state) {
   runCompletion(state, 8350, "radar", p);
 }
 // The node's radar configuration (config/radar.yaml) at full resolution: ground_gp, 80 % retained.
-void BM_Radar08350_GroundGp_Retain80(benchmark::State& state) {
+/// `model` with config/radar.yaml's ground plane and retention.
+mm::DepthCompletionParams radarYamlParams(mm::DepthModel model) {
   mm::DepthCompletionParams p;
-  p.model = mm::DepthModel::kGroundGp;
+  p.model = model;
   p.retain_percent = 80.0;
   const double pitch = 6.8 * M_PI / 180.0;  // radar.yaml's ground_pitch_deg
   p.ground.camera_height = 1.3;
   p.ground.up_x = 0.0;
   p.ground.up_y = -std::cos(pitch);
   p.ground.up_z = std::sin(pitch);
-  runCompletion(state, 8350, "radar", p);
+  return p;
+}
+void BM_Radar08350_GroundGp_Retain80(benchmark::State& state) {
+  runCompletion(state, 8350, "radar", radarYamlParams(mm::DepthModel::kGroundGp));
 }
 // image_guided at full resolution, radar.yaml's ground and retention.
 void BM_Radar08350_ImageGuided_Retain80(benchmark::State& state) {
-  mm::DepthCompletionParams p;
-  p.model = mm::DepthModel::kImageGuided;
-  p.retain_percent = 80.0;
-  const double pitch = 6.8 * M_PI / 180.0;
-  p.ground.camera_height = 1.3;
-  p.ground.up_x = 0.0;
-  p.ground.up_y = -std::cos(pitch);
-  p.ground.up_z = std::sin(pitch);
-  runCompletion(state, 8350, "radar", p);
+  runCompletion(state, 8350, "radar", radarYamlParams(mm::DepthModel::kImageGuided));
 }
 void BM_Lidar00549_TiledApprox(benchmark::State& state) {
   mm::DepthCompletionParams p;
