@@ -31,8 +31,8 @@ ConversionStatus completeDepthFromCloud(const sensor_msgs::PointCloud2& cloud,
                                         const Eigen::Isometry3d& sensor_to_camera,
                                         const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
                                         const DepthCompletionParams& params, int max_points,
-                                        DepthCompletionWorkspace& workspace,
-                                        CloudReading& reading) {
+                                        DepthCompletionWorkspace& workspace, CloudReading& reading,
+                                        const cv::Mat& image) {
   reading = CloudReading{};
   reading.cap = pointCap(max_points, params);
   std::size_t step = 1;
@@ -44,7 +44,7 @@ ConversionStatus completeDepthFromCloud(const sensor_msgs::PointCloud2& cloud,
   reading.step = step;  // only for a cloud that goes on to the model
   const std::size_t points = workspace.points().size();  // the workspace may release them
   try {
-    workspace.complete(intrinsics, grid, params);
+    workspace.complete(intrinsics, grid, params, image);
   } catch (const std::bad_alloc&) {
     // One allocation too large for this host (the model's buffers grow with points and pixels):
     // the set is lost, the node is not. The thread pool rethrows its workers' exceptions here.
@@ -75,11 +75,18 @@ DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const
   result.status = lookupSensorToCamera(tf_buffer, cloud.header, image.header.frame_id, tf_timeout,
                                        sensor_to_camera);
   if (!result.status.ok()) return result;
+  // Only image_guided reads the pixels (a compressed image is already decoded, a raw one wrapped).
+  cv::Mat pixels;
+  if (settings.params.model == DepthModel::kImageGuided) {
+    result.input = "image";
+    result.status = image.rgb(pixels);
+    if (!result.status.ok()) return result;
+  }
   result.input = "points";
   try {
     result.status = completeDepthFromCloud(cloud, sensor_to_camera, result.intrinsics,
                                            StrideGrid{image.size, settings.stride}, settings.params,
-                                           max_points, workspace, result.reading);
+                                           max_points, workspace, result.reading, pixels);
   } catch (const InputError& e) {
     result.error = e.what();
   }

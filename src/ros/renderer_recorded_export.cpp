@@ -112,6 +112,13 @@ namespace {
 
 struct ExportCancelled {};
 
+/// A double as command-line text that reads back to the same value (17 significant digits).
+std::string exactNumber(double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
+}
+
 /// A pose in the VoD pose-file format; nlohmann prints each double in its shortest form that
 /// reads back to the same value, so render_conditioning renders exactly the recorded pose.
 std::string poseJson(const std::string& key, const Eigen::Matrix4d& pose) {

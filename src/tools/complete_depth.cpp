@@ -190,16 +190,19 @@ std::vector<FrameJob> jobsFrom(const Options& o) {
   return jobs;
 }
 
-mm::StrideGrid gridOf(const Options& o, const FrameJob& job) {
+/// The frame's camera image (its size, and the guide of image_guided); empty with --image-size.
+cv::Mat frameImage(const Options& o, const FrameJob& job) {
+  if (!o.image_size.empty()) return cv::Mat();
+  cv::Mat image = cv::imread(job.image, cv::IMREAD_UNCHANGED);
+  if (image.empty()) throw mm::InputError(job.image + ": cannot read or decode image");
+  return image;
+}
+
+mm::StrideGrid gridOf(const Options& o, const cv::Mat& image) {
   mm::StrideGrid grid;
   grid.stride = o.stride;
-  if (!o.image_size.empty()) {
-    grid.image = {o.image_size[0], o.image_size[1]};
-  } else {
-    const cv::Mat image = cv::imread(job.image, cv::IMREAD_UNCHANGED);
-    if (image.empty()) throw mm::InputError(job.image + ": cannot read or decode image");
-    grid.image = {image.rows, image.cols};
-  }
+  grid.image = image.empty() ? mm::ImageSize{o.image_size[0], o.image_size[1]}
+                             : mm::ImageSize{image.rows, image.cols};
   return grid;
 }
 
@@ -219,7 +222,8 @@ void writeOutputs(const Options& o, const std::string& prefix, const mm::DepthMa
 /// compute time of the first run.
 double completeFrame(const Options& o, const FrameJob& job, bool name_frame,
                      mm::DepthCompleter& completer, mm::DepthMap& result) {
-  const mm::StrideGrid grid = gridOf(o, job);
+  const cv::Mat image = frameImage(o, job);
+  const mm::StrideGrid grid = gridOf(o, image);
   mm::DepthCompletionParams params = paramsFrom(o);
   mm::cli::applyGroundPose(o.depth, job.pose, params);
   const mm::io::KittiCalib calib = mm::io::readKittiCalib(job.calib);
@@ -230,7 +234,7 @@ double completeFrame(const Options& o, const FrameJob& job, bool name_frame,
 
   std::vector<double> times;
   for (int i = 0; i < o.repeat; ++i) {
-    completer.complete(points_camera, intrinsics, grid, params, result);
+    completer.complete(points_camera, intrinsics, grid, params, result, image);
     times.push_back(result.stats.compute_ms);
   }
   const auto& s = result.stats;

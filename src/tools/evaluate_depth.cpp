@@ -384,8 +384,12 @@ int run(int argc, char** argv) {
       mm::DepthCompletionParams frame_params = params;
       mm::cli::applyGroundPose(o.depth, frame.pose(),
                                frame_params);  // ground_gp: this frame's pose
+      // image_guided follows the camera image; the other models do not read it.
+      const cv::Mat image = params.model == mm::DepthModel::kImageGuided
+                                ? cv::imread(frame.image(), cv::IMREAD_UNCHANGED)
+                                : cv::Mat();
       for (int i = 0; i < repeat; ++i) {
-        completer.complete(points_camera, intrinsics, grid, frame_params, map);
+        completer.complete(points_camera, intrinsics, grid, frame_params, map, image);
         times.push_back(map.stats.compute_ms);
       }
       res.runtime_ms = median(times);

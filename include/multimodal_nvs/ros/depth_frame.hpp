@@ -40,7 +40,8 @@ ConversionStatus completeDepthFromCloud(const sensor_msgs::PointCloud2& cloud,
                                         const Eigen::Isometry3d& sensor_to_camera,
                                         const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
                                         const DepthCompletionParams& params, int max_points,
-                                        DepthCompletionWorkspace& workspace, CloudReading& reading);
+                                        DepthCompletionWorkspace& workspace, CloudReading& reading,
+                                        const cv::Mat& image = cv::Mat());
 
 /// Outcome of completeDepthFrame.
 struct DepthFrameResult {

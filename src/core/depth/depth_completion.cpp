@@ -76,15 +76,16 @@ long long maskDepth(const std::uint8_t* __restrict valid, std::size_t count,
 
 DepthMap DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
                                   const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
-                                  const DepthCompletionParams& params) {
+                                  const DepthCompletionParams& params, const cv::Mat& image) {
   DepthMap out;
-  complete(points_camera, intrinsics, grid, params, out);
+  complete(points_camera, intrinsics, grid, params, out, image);
   return out;
 }
 
 void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
                               const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
-                              const DepthCompletionParams& params, DepthMap& out) {
+                              const DepthCompletionParams& params, DepthMap& out,
+                              const cv::Mat& image) {
   params.validate();
   intrinsics.validate("camera intrinsics");
   if (grid.image.height <= 0 || grid.image.width <= 0 || grid.stride < 1) {
@@ -105,7 +106,8 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   PixelPredictions prediction;
   prediction.mean.swap(out.depth);
   prediction.variance.swap(out.variance);
-  stats.neighbour_sets = predictWithModel(samples, angles, params, stats.shift, *pool_, prediction);
+  stats.neighbour_sets =
+      predictWithModel(samples, angles, params, stats.shift, *pool_, prediction, image);
 
   // Valid as the reference defines it, then retention among the valid pixels. Full-image passes
   // are split into chunks whose counts are summed afterwards (deterministic for any thread count).

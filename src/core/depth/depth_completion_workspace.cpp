@@ -18,9 +18,11 @@ void releaseOversizedBuffers(std::vector<Eigen::Vector3d>& points, DepthMap& dep
 
 const DepthMap& DepthCompletionWorkspace::complete(const PinholeIntrinsics& intrinsics,
                                                    const StrideGrid& grid,
-                                                   const DepthCompletionParams& params) {
+                                                   const DepthCompletionParams& params,
+                                                   const cv::Mat& image) {
   try {
-    completer_.forThreads(params.threads).complete(points_, intrinsics, grid, params, depth_);
+    completer_.forThreads(params.threads)
+        .complete(points_, intrinsics, grid, params, depth_, image);
   } catch (...) {
     releaseOversizedBuffers(points_, depth_);
     throw;

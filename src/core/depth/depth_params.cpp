@@ -15,6 +15,8 @@ const char* toString(DepthModel model) {
       return "kernel";
     case DepthModel::kGroundGp:
       return "ground_gp";
+    case DepthModel::kImageGuided:
+      return "image_guided";
     case DepthModel::kNearest:
       return "nearest";
     case DepthModel::kLinear:
@@ -31,13 +33,15 @@ DepthModel parseDepthModel(const std::string& name) {
   if (name == "local_gp_mle") return DepthModel::kLocalGpMle;
   if (name == "kernel") return DepthModel::kKernel;
   if (name == "ground_gp") return DepthModel::kGroundGp;
+  if (name == "image_guided") return DepthModel::kImageGuided;
   if (name == "nearest") return DepthModel::kNearest;
   if (name == "linear") return DepthModel::kLinear;
   if (name == "ipbasic") return DepthModel::kIpBasic;
   if (name == "constant") return DepthModel::kConstant;
-  throw InputError("unknown depth model '" + name +
-                   "' (expected local_gp_mle, kernel, ground_gp, nearest, linear, ipbasic or "
-                   "constant)");
+  throw InputError(
+      "unknown depth model '" + name +
+      "' (expected local_gp_mle, kernel, ground_gp, image_guided, nearest, linear, ipbasic or "
+      "constant)");
 }
 
 const char* toString(GroundPriorParams::Input input) {
@@ -121,7 +125,32 @@ void DepthCompletionParams::validate() const {
       fail("ground residual_amplitude, relative sigmas and far_depth must be >= 0");
     }
   }
+  if (model == DepthModel::kImageGuided) guided.validate(ground);
   if (approx_tile < 1) fail("approx_tile must be >= 1");
+}
+
+void ImageGuidedParams::validate(const GroundPriorParams& plane) const {
+  auto fail = [](const std::string& what) { throw InputError("parameter image_guided " + what); };
+  const double positive[] = {lambda, sigma_color, prior_weight, far_depth};
+  for (double v : positive) {
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      fail("lambda, sigma_color, prior_weight and far_depth must be finite and > 0");
+    }
+  }
+  const double non_negative[] = {sky_gradient, sky_brightness, sky_sigma, relative_sigma,
+                                 return_relative_sigma};
+  for (double v : non_negative) {
+    if (!(v >= 0.0) || !std::isfinite(v))
+      fail("sky_gradient, sky_brightness and the sigmas must be >= 0");
+  }
+  if (iterations < 1 || iterations > 32) fail("iterations must be in [1, 32]");
+  if (splat_radius_px < 0 || splat_radius_px > 16) fail("splat_radius_px must be in [0, 16]");
+  if (ground_prior) {
+    if (!(plane.camera_height > 0.0)) fail("needs ground camera_height > 0");
+    if (!(std::abs(plane.up_x) + std::abs(plane.up_y) + std::abs(plane.up_z) > 0.0)) {
+      fail("needs a non-zero ground up direction");
+    }
+  }
 }
 
 }  // namespace multimodal_nvs

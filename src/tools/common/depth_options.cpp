@@ -10,7 +10,7 @@ namespace cli {
 void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
   DepthCompletionParams& p = o.params;
   app.add_option("--model", o.model,
-                 "local_gp_mle|kernel|ground_gp|nearest|linear|ipbasic|constant")
+                 "local_gp_mle|kernel|ground_gp|image_guided|nearest|linear|ipbasic|constant")
       ->group(kModel);
   app.add_option("--radius-deg", p.radius_deg, "neighbourhood radius in degrees")
       ->check(positive())
@@ -99,6 +99,57 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "dense input: prior std / depth on a surface")
       ->check(positive())
       ->group(kGround);
+
+  // image_guided (the depth model that follows the camera image). The on/off switches are for the
+  // ablation of its ingredients.
+  const char* guided = "image_guided";
+  ImageGuidedParams& ig = p.guided;
+  app.add_option("--guided-lambda", ig.lambda, "smoothness weight of the fast global smoother")
+      ->check(positive())
+      ->group(guided);
+  app.add_option("--guided-sigma-color", ig.sigma_color,
+                 "image step (8-bit) that counts as an edge")
+      ->check(positive())
+      ->group(guided);
+  app.add_option("--guided-iterations", ig.iterations, "smoother iterations")
+      ->check(atLeast(1))
+      ->group(guided);
+  app.add_option("--guided-prior-weight", ig.prior_weight, "confidence of the prior per pixel")
+      ->check(atLeast(0))
+      ->group(guided);
+  app.add_option("--guided-far-depth", ig.far_depth, "depth of the sky and above the horizon")
+      ->check(positive())
+      ->group(guided);
+  app.add_option("--guided-ground-prior", ig.ground_prior, "1 ground-plane prior, 0 median depth")
+      ->group(guided);
+  app.add_option("--guided-surface-prior", ig.surface_prior,
+                 "1 the prior is the nearer of ground and nearest return, 0 ground only")
+      ->group(guided);
+  app.add_option("--guided-edges", ig.edges, "1 follow the image's edges, 0 ignore them")
+      ->group(guided);
+  app.add_option("--guided-sky", ig.sky, "1 send the detected sky to the far depth")->group(guided);
+  app.add_option("--guided-sky-gradient", ig.sky_gradient, "image gradient that ends the sky")
+      ->check(atLeast(0))
+      ->group(guided);
+  app.add_option("--guided-sky-brightness", ig.sky_brightness,
+                 "the sky is at least this bright (8-bit)")
+      ->check(atLeast(0))
+      ->group(guided);
+  app.add_option("--guided-sky-sigma", ig.sky_sigma, "std (m) of the sky's depth")
+      ->check(positive())
+      ->group(guided);
+  app.add_option("--guided-relative-sigma", ig.relative_sigma,
+                 "std / depth where only the prior speaks")
+      ->check(atLeast(0))
+      ->group(guided);
+  app.add_option("--guided-return-relative-sigma", ig.return_relative_sigma,
+                 "std / depth at a return")
+      ->check(atLeast(0))
+      ->group(guided);
+  app.add_option("--guided-splat-radius", ig.splat_radius_px,
+                 "grid pixels a return covers around it")
+      ->check(atLeast(0))
+      ->group(guided);
 }
 
 DepthCompletionParams depthModelParams(const DepthModelOptions& o) {
@@ -120,7 +171,7 @@ DepthCompletionParams depthModelParams(const DepthModelOptions& o) {
 
 void applyGroundPose(const DepthModelOptions& o, const std::string& default_pose,
                      DepthCompletionParams& p) {
-  if (p.model != DepthModel::kGroundGp) return;
+  if (p.model != DepthModel::kGroundGp && p.model != DepthModel::kImageGuided) return;
   std::string pose_path = o.ground_pose;
   if (pose_path.empty() && !default_pose.empty() && io::fileExists(default_pose)) {
     pose_path = default_pose;

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <vector>
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
@@ -42,15 +43,18 @@ class DepthCompleter {
   explicit DepthCompleter(int threads = 0);
 
   /// `points_camera`: the scan in the camera optical frame (non-finite points are dropped and
-  /// counted). Throws InputError for invalid parameters or intrinsics.
+  /// counted). `image`: the camera image at grid.image's size, which the image_guided model needs
+  /// (the others ignore it; it may be empty for them). Throws InputError for invalid parameters,
+  /// intrinsics, or a missing image where the model needs one.
   DepthMap complete(const std::vector<Eigen::Vector3d>& points_camera,
                     const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
-                    const DepthCompletionParams& params);
+                    const DepthCompletionParams& params, const cv::Mat& image = cv::Mat());
   /// The same, writing into `out` and reusing its buffers: a node calling this per scan with the
   /// same map avoids ~20 MB of fresh, page-faulting allocations per full-resolution frame.
   void complete(const std::vector<Eigen::Vector3d>& points_camera,
                 const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
-                const DepthCompletionParams& params, DepthMap& out);
+                const DepthCompletionParams& params, DepthMap& out,
+                const cv::Mat& image = cv::Mat());
 
   int threads() const { return pool_->size(); }
 

@@ -43,10 +43,11 @@ class DepthCompletionWorkspace {
   std::vector<Eigen::Vector3d>& points() { return points_; }
 
   /// Completes points() into depth(), then releases oversized buffers (also when it throws).
+  /// `image`: the camera image (image_guided needs it, the other models ignore it).
   /// Throws InputError for invalid parameters or intrinsics, std::bad_alloc when this host cannot
   /// hold the model's buffers for the scan.
   const DepthMap& complete(const PinholeIntrinsics& intrinsics, const StrideGrid& grid,
-                           const DepthCompletionParams& params);
+                           const DepthCompletionParams& params, const cv::Mat& image = cv::Mat());
 
   const DepthMap& depth() const { return depth_; }
 

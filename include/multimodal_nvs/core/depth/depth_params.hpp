@@ -8,9 +8,10 @@
 namespace multimodal_nvs {
 
 enum class DepthModel {
-  kLocalGpMle,  ///< reference default: local GP, marginal-likelihood length scale per set
-  kKernel,      ///< reference fast mode: Gaussian kernel regression within the radius
-  kGroundGp,    ///< beyond the paper: local GP on the residual around a ground-plane prior
+  kLocalGpMle,   ///< reference default: local GP, marginal-likelihood length scale per set
+  kKernel,       ///< reference fast mode: Gaussian kernel regression within the radius
+  kGroundGp,     ///< beyond the paper: local GP on the residual around a ground-plane prior
+  kImageGuided,  ///< beyond the paper: returns spread along the image's edges (image_guided_model)
   // Baselines (baselines.hpp), each with a documented variance:
   kNearest,   ///< depth of the angularly nearest sample, no radius limit
   kLinear,    ///< Delaunay triangulation in the angular domain, barycentric interpolation
@@ -60,6 +61,32 @@ const char* toString(GroundPriorParams::Input input);
 /// auto|sparse|dense; throws InputError otherwise.
 GroundPriorParams::Input parseGroundInput(const std::string& name);
 
+/// The `image_guided` model (image_guided_model.hpp): the returns and the ground prior are spread
+/// by the fast global smoother guided by the camera image, so that depth changes only where the
+/// image has an edge; the sky (no return can come from it) goes to the far clamp.
+struct ImageGuidedParams {
+  double lambda = 4000.0;      ///< smoothness weight of the fast global smoother
+  double sigma_color = 8.0;    ///< image difference (8-bit units) that counts as an edge
+  int iterations = 3;          ///< smoother iterations (each: one horizontal + vertical pass)
+  double prior_weight = 1e-3;  ///< confidence of the ground/far prior per pixel (a return: 1)
+  double far_depth = 100.0;    ///< metres: depth above the horizon and of the sky (GEN3C clamp)
+  bool ground_prior = true;    ///< false: the prior is the median return depth everywhere
+  /// true: where the ground prior is farther than the nearest return, that return's depth is the
+  /// prior (a surface stands between the camera and the ground or the far clamp)
+  bool surface_prior = true;
+  bool edges = true;              ///< false: a uniform guide (no image edges; the ablation)
+  bool sky = true;                ///< detect the sky and send it to far_depth
+  double sky_gradient = 12.0;     ///< image gradient (8-bit units) that ends the sky in a column
+  double sky_brightness = 120.0;  ///< the sky is at least this bright (8-bit gray)
+  double sky_sigma = 1.0;         ///< std (metres) of the sky's depth
+  double relative_sigma = 0.25;   ///< std / depth where only the prior speaks
+  double return_relative_sigma = 0.05;  ///< std / depth at a return
+  int splat_radius_px = 0;              ///< a return covers this many grid pixels around it
+
+  /// Throws InputError naming the first bad parameter (`plane`: the ground it uses).
+  void validate(const GroundPriorParams& plane) const;
+};
+
 /// Every parameter of depth completion, with the reference's defaults. The CLI flags, the YAML
 /// files and dynamic_reconfigure all map onto this one struct.
 struct DepthCompletionParams {
@@ -67,6 +94,7 @@ struct DepthCompletionParams {
   double radius_deg = 2.0;
   LocalGpParams gp;
   GroundPriorParams ground;
+  ImageGuidedParams guided;
   double kernel_length_scale_deg = 0.75;
   DepthShift shift;
   /// Keep this percentage of *all* grid pixels, those with the lowest variance (ties: row-major

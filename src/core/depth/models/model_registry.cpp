@@ -4,6 +4,7 @@
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/constant_model.hpp"
 #include "multimodal_nvs/core/depth/models/ground_gp_model.hpp"
+#include "multimodal_nvs/core/depth/models/image_guided_model.hpp"
 #include "multimodal_nvs/core/depth/models/ipbasic_model.hpp"
 #include "multimodal_nvs/core/depth/models/kernel_model.hpp"
 #include "multimodal_nvs/core/depth/models/linear_model.hpp"
@@ -38,6 +39,7 @@ BaselineModel baselineModel(DepthModel model) {
     case DepthModel::kLocalGpMle:
     case DepthModel::kKernel:
     case DepthModel::kGroundGp:
+    case DepthModel::kImageGuided:
       break;
   }
   return nullptr;
@@ -51,9 +53,13 @@ bool isBaseline(DepthModel model) {
 
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
-                     PixelPredictions& out) {
+                     PixelPredictions& out, const cv::Mat& image) {
   if (const BaselineModel baseline = baselineModel(params.model)) {
     baseline(samples, angles, params, pool, out);
+    return 0;
+  }
+  if (params.model == DepthModel::kImageGuided) {
+    predictImageGuided(samples, angles, params, groundPlane(params.ground), image, pool, out);
     return 0;
   }
   if (params.model == DepthModel::kGroundGp && groundInputIsDense(samples, angles, params)) {

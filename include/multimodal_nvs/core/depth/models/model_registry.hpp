@@ -1,6 +1,7 @@
 #pragma once
 // The one place that maps a DepthModel to its implementation. Adding a model: a file pair in this
 // folder, an entry in DepthModel (depth_params.hpp) and a case in predictWithModel.
+#include <opencv2/core.hpp>
 #include <vector>
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
@@ -14,10 +15,11 @@ namespace multimodal_nvs {
 bool isBaseline(DepthModel model);
 
 /// Runs `params.model` on the samples into `out`. `shift` is the targets' centre (computeShift of
-/// params.shift). Returns the number of neighbour sets (or tiles) the model solved, 0 for models
+/// params.shift). `image`: the camera image (used by image_guided only; may be empty for the
+/// others). Returns the number of neighbour sets (or tiles) the model solved, 0 for models
 /// without any.
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
-                     PixelPredictions& out);
+                     PixelPredictions& out, const cv::Mat& image = cv::Mat());
 
 }  // namespace multimodal_nvs

@@ -1,0 +1,40 @@
+#pragma once
+// `image_guided`: returns and the geometric prior spread along the camera image, so that depth
+// changes only where the image has an edge (the fast global smoother of Min et al., "Fast Global
+// Image Smoothing Based on Weighted Least Squares", 2014, from OpenCV's ximgproc).
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "multimodal_nvs/core/common/stride_grid.hpp"
+#include "multimodal_nvs/core/common/thread_pool.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
+#include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+
+namespace multimodal_nvs {
+
+struct GroundPlane;
+
+/// `image_guided` (image_guided_model.cpp). `image`: the camera image at the grid's full image
+/// size (8-bit or 16-bit, 1, 3 or 4 channels, BGR order). Throws InputError when it is missing or
+/// of another size.
+void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                        const DepthCompletionParams& params, const GroundPlane& plane,
+                        const cv::Mat& image, ThreadPool& pool, PixelPredictions& out);
+
+/// The image at the grid's pixels (u = 0, s, 2s, ...), 8-bit BGR. Throws InputError when the image
+/// is empty, of another size than grid.image or of an unsupported type.
+cv::Mat guideOnGrid(const cv::Mat& image, const StrideGrid& grid);
+
+/// The sky on the grid (1 = sky): in each column, the run of pixels from the top row down to the
+/// first image edge (8-bit gradient above `gradient`), the horizon (`prior` below `far_depth`) or
+/// the first return (`top_return_row[c]`, rows() where the column has none), whichever comes
+/// first, or the first pixel darker than `brightness` (8-bit gray). No return comes from the sky,
+/// the sky touches the top of the image and is bright.
+std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>& prior,
+                                  float far_depth, const std::vector<int>& top_return_row,
+                                  double gradient, double brightness);
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,216 @@
+#include "multimodal_nvs/core/depth/models/image_guided_model.hpp"
+
+// `image_guided`. Every pixel carries weighted evidence of its inverse depth: a return (weight 1,
+// the nearest return where several fall into one pixel), the sky (sky_weight, at the far clamp)
+// and the ground/far prior (prior_weight). The fast global smoother, guided by the image, spreads
+// the three sums (w, w x, w x^2) and their ratio is the depth: a normalised convolution whose
+// kernel stops at the image's edges, so a return colours its own surface and not the one behind
+// it. Linear in the pixels; the smoother is OpenCV's (ximgproc), not written here.
+// Inverse depth: along a plane seen in perspective (the road) inverse depth is affine in the image,
+// depth is not. The variance: the spread of the evidence that was mixed at the pixel (its second
+// central moment, carried to depth) plus a relative std that grows from a return's to the prior's
+// with the share of the prior in the pixel's evidence.
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/ximgproc/edge_filter.hpp>
+
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/models/nearest_model.hpp"
+
+namespace multimodal_nvs {
+
+cv::Mat guideOnGrid(const cv::Mat& image, const StrideGrid& grid) {
+  if (image.empty()) {
+    throw InputError("image_guided needs the camera image (none was given)");
+  }
+  if (image.rows != grid.image.height || image.cols != grid.image.width) {
+    throw InputError("image_guided: the image is " + std::to_string(image.cols) + "x" +
+                     std::to_string(image.rows) + ", the depth grid's image " +
+                     std::to_string(grid.image.width) + "x" + std::to_string(grid.image.height));
+  }
+  cv::Mat eight_bit;
+  if (image.depth() == CV_8U) {
+    eight_bit = image;
+  } else if (image.depth() == CV_16U) {
+    image.convertTo(eight_bit, CV_8U, 1.0 / 256.0);
+  } else {
+    throw InputError("image_guided: the image must be 8-bit or 16-bit");
+  }
+  cv::Mat bgr;
+  switch (eight_bit.channels()) {
+    case 1:
+      cv::cvtColor(eight_bit, bgr, cv::COLOR_GRAY2BGR);
+      break;
+    case 3:
+      bgr = eight_bit;
+      break;
+    case 4:
+      cv::cvtColor(eight_bit, bgr, cv::COLOR_BGRA2BGR);
+      break;
+    default:
+      throw InputError("image_guided: the image must have 1, 3 or 4 channels");
+  }
+  const int s = grid.stride;
+  if (s == 1) return bgr.isContinuous() ? bgr : bgr.clone();
+  cv::Mat out(grid.rows(), grid.cols(), CV_8UC3);
+  for (int r = 0; r < out.rows; ++r) {
+    const cv::Vec3b* src = bgr.ptr<cv::Vec3b>(r * s);
+    cv::Vec3b* dst = out.ptr<cv::Vec3b>(r);
+    for (int c = 0; c < out.cols; ++c)
+      dst[c] = src[c * s];
+  }
+  return out;
+}
+
+std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>& prior,
+                                  float far_depth, const std::vector<int>& top_return_row,
+                                  double gradient, double brightness) {
+  const int rows = guide.rows, cols = guide.cols;
+  cv::Mat gray, gx, gy;
+  cv::cvtColor(guide, gray, cv::COLOR_BGR2GRAY);
+  // Sobel's 3x3 weights sum to 8 over the two sides: scale 1/8 gives the step per pixel.
+  cv::Sobel(gray, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
+  cv::Sobel(gray, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
+  std::vector<std::uint8_t> sky(std::size_t(rows) * cols, 0);
+  const float limit = static_cast<float>(gradient);
+  for (int c = 0; c < cols; ++c) {
+    const int end = std::min(rows, top_return_row[c]);
+    for (int r = 0; r < end; ++r) {
+      const std::size_t i = std::size_t(r) * cols + c;
+      if (prior[i] < far_depth || gray.at<std::uint8_t>(r, c) < brightness) break;
+      if (std::hypot(gx.at<float>(r, c), gy.at<float>(r, c)) > limit) break;
+      sky[i] = 1;
+    }
+  }
+  return sky;
+}
+
+namespace {
+
+/// The nearest return per grid pixel (+inf where none) and, per column, the top row of a return.
+struct ReturnRaster {
+  std::vector<float> depth;
+  std::vector<int> top_row;
+};
+
+ReturnRaster rasterReturns(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                           int splat_radius) {
+  const StrideGrid& grid = angles.grid();
+  const PinholeIntrinsics& k = angles.intrinsics();
+  const int rows = grid.rows(), cols = grid.cols();
+  ReturnRaster raster;
+  raster.depth.assign(std::size_t(rows) * cols, INFINITY);
+  raster.top_row.assign(cols, rows);
+  for (const AngularSample& s : samples) {
+    if (!(s.depth > 0.0f) || !std::isfinite(s.depth)) continue;
+    const Eigen::Vector2d xy = normalisedFromAngles(s.azimuth_deg, s.elevation_deg);
+    const double u = (k.fx * xy.x() + k.cx) / grid.stride;
+    const double v = (k.fy * xy.y() + k.cy) / grid.stride;
+    if (!(u > -0.5 && v > -0.5 && u < cols - 0.5 && v < rows - 0.5)) continue;
+    const int c0 = static_cast<int>(std::lround(u)), r0 = static_cast<int>(std::lround(v));
+    for (int r = std::max(0, r0 - splat_radius); r <= std::min(rows - 1, r0 + splat_radius); ++r) {
+      for (int c = std::max(0, c0 - splat_radius); c <= std::min(cols - 1, c0 + splat_radius);
+           ++c) {
+        float& d = raster.depth[std::size_t(r) * cols + c];
+        d = std::min(d, s.depth);
+        raster.top_row[c] = std::min(raster.top_row[c], r);
+      }
+    }
+  }
+  return raster;
+}
+
+float medianDepth(const std::vector<AngularSample>& samples) {
+  std::vector<float> d;
+  for (const AngularSample& s : samples) {
+    if (s.depth > 0.0f && std::isfinite(s.depth)) d.push_back(s.depth);
+  }
+  if (d.empty()) return 10.0f;
+  std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+  return d[d.size() / 2];
+}
+
+}  // namespace
+
+void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                        const DepthCompletionParams& params, const GroundPlane& plane,
+                        const cv::Mat& image, ThreadPool& pool, PixelPredictions& out) {
+  const ImageGuidedParams& g = params.guided;
+  const StrideGrid& grid = angles.grid();
+  const int rows = grid.rows(), cols = grid.cols();
+  const std::size_t n = std::size_t(rows) * cols;
+  const cv::Mat guide = guideOnGrid(image, grid);
+  const float far = static_cast<float>(g.far_depth);
+
+  std::vector<float> prior = g.ground_prior ? groundPriorDepth(angles, plane, g.far_depth)
+                                            : std::vector<float>(n, medianDepth(samples));
+  const ReturnRaster returns = rasterReturns(samples, angles, g.splat_radius_px);
+  std::vector<std::uint8_t> sky;
+  if (g.sky) sky = skyMask(guide, prior, far, returns.top_row, g.sky_gradient, g.sky_brightness);
+
+  if (g.surface_prior && !samples.empty()) {
+    PixelPredictions nearest;
+    predictNearest(samples, angles, params, pool, nearest);
+    for (std::size_t i = 0; i < n; ++i) {
+      const bool in_sky = !sky.empty() && sky[i];
+      if (!in_sky && std::isfinite(nearest.mean[i]) && nearest.mean[i] > 0.0f) {
+        prior[i] = std::min(prior[i], nearest.mean[i]);
+      }
+    }
+  }
+  // Evidence sums per pixel: weight, weight * x, weight * x^2 with x = 1 / depth.
+  cv::Mat evidence(rows, cols, CV_32FC3);
+  const float prior_weight = static_cast<float>(g.prior_weight);
+  for (int r = 0; r < rows; ++r) {
+    cv::Vec3f* row = evidence.ptr<cv::Vec3f>(r);
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = std::size_t(r) * cols + c;
+      const float xp = 1.0f / std::min(prior[i], far);
+      float w = prior_weight, wx = prior_weight * xp, wxx = prior_weight * xp * xp;
+      if (std::isfinite(returns.depth[i])) {
+        const float xr = 1.0f / returns.depth[i];
+        w += 1.0f;
+        wx += xr;
+        wxx += xr * xr;
+      }
+      row[c] = cv::Vec3f(w, wx, wxx);
+    }
+  }
+  const cv::Mat edge_guide = g.edges ? guide : cv::Mat(rows, cols, CV_8UC3, cv::Scalar::all(128));
+  cv::Mat spread;
+  cv::ximgproc::createFastGlobalSmootherFilter(edge_guide, g.lambda, g.sigma_color, 0.25,
+                                               g.iterations)
+      ->filter(evidence, spread);
+
+  out.mean.resize(n);
+  out.variance.resize(n);
+  const float rel_return = static_cast<float>(g.return_relative_sigma);
+  const float rel_prior = static_cast<float>(g.relative_sigma);
+  const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
+  for (int r = 0; r < rows; ++r) {
+    const cv::Vec3f* row = spread.ptr<cv::Vec3f>(r);
+    for (int c = 0; c < cols; ++c) {
+      const std::size_t i = std::size_t(r) * cols + c;
+      if (!sky.empty() && sky[i]) {
+        out.mean[i] = far;
+        out.variance[i] = sky_variance;
+        continue;
+      }
+      // The smoother keeps sums positive up to rounding; the floor keeps the ratio finite.
+      const float w = std::max(row[c][0], prior_weight * 1e-3f);
+      const float x = std::max(row[c][1] / w, 1.0f / far);
+      const float spread_x = std::max(row[c][2] / w - x * x, 0.0f);
+      const float depth = std::min(1.0f / x, far);
+      const float prior_share = std::min(1.0f, prior_weight / w);
+      const float relative = rel_return + (rel_prior - rel_return) * prior_share;
+      // d = 1/x: var(d) ~ var(x) / x^4 (first order).
+      out.mean[i] = depth;
+      out.variance[i] =
+          spread_x * depth * depth * depth * depth + (relative * depth) * (relative * depth);
+    }
+  }
+}
+
+}  // namespace multimodal_nvs

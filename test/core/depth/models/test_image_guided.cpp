@@ -1,0 +1,142 @@
+// The image_guided model: depth follows the returns but changes only at the image's edges, the sky
+// goes to the far clamp, the variance grows away from the returns, and a missing image is an error.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "core/scene_fixtures.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/depth/models/image_guided_model.hpp"
+
+namespace mm = multimodal_nvs;
+using mm::test::pointOnPixelRay;
+using mm::test::smallCamera;
+using mm::test::smallImage;
+
+namespace {
+constexpr int kCols = 160;
+
+mm::DepthCompletionParams guidedParams() {
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kImageGuided;
+  p.threads = 2;
+  return p;
+}
+
+/// Left half dark, right half bright: one edge at column 80.
+cv::Mat twoHalves() {
+  cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(40));
+  image.colRange(80, kCols).setTo(cv::Scalar::all(200));
+  return image;
+}
+
+/// A near return on the dark half, a far one on the bright half, both below the horizon.
+std::vector<Eigen::Vector3d> twoReturns() {
+  return {pointOnPixelRay(smallCamera(), 60, 80, 5.0),
+          pointOnPixelRay(smallCamera(), 100, 80, 20.0)};
+}
+
+float at(const mm::DepthMap& map, int row, int col) {
+  return map.depth[std::size_t(row) * kCols + col];
+}
+}  // namespace
+
+TEST(ImageGuided, DepthChangesAtTheImageEdgeAndNotElsewhere) {
+  mm::DepthCompletionParams p = guidedParams();
+  p.guided.ground_prior = false;
+  p.guided.sky = false;
+  mm::DepthCompleter completer(2);
+  const auto map =
+      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+  // Each return colours its own half up to the edge.
+  EXPECT_NEAR(at(map, 80, 78), 5.0f, 0.5f);
+  EXPECT_NEAR(at(map, 80, 82), 20.0f, 2.0f);
+  // Without the image (the ablation), the two depths blur into each other across column 80.
+  p.guided.edges = false;
+  const auto blurred =
+      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+  EXPECT_GT(std::abs(at(map, 80, 82) - at(map, 80, 78)),
+            2.0f * std::abs(at(blurred, 80, 82) - at(blurred, 80, 78)));
+}
+
+TEST(ImageGuided, BrightUniformTopIsSkyAtTheFarClampWithItsVariance) {
+  cv::Mat image = twoHalves();
+  image.rowRange(0, 30).setTo(cv::Scalar(230, 210, 190));  // sky above row 30
+  mm::DepthCompletionParams p = guidedParams();
+  mm::DepthCompleter completer(2);
+  const auto map = completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, image);
+  EXPECT_FLOAT_EQ(at(map, 5, 20), 100.0f);
+  EXPECT_FLOAT_EQ(map.variance[std::size_t(5) * kCols + 20], 1.0f);
+  // The dark facade below the sky line is not sky (darker than sky_brightness).
+  EXPECT_LT(at(map, 40, 20), 100.0f);
+  p.guided.sky = false;
+  const auto no_sky = completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, image);
+  EXPECT_NE(no_sky.variance[std::size_t(5) * kCols + 20], 1.0f);
+}
+
+TEST(ImageGuided, SkyStopsAtTheFirstReturnOfAColumn) {
+  const cv::Mat bright(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(220));
+  std::vector<float> far(std::size_t(smallImage().height) * kCols, 100.0f);
+  std::vector<int> top_return(kCols, smallImage().height);
+  top_return[10] = 12;
+  const auto sky = mm::skyMask(bright, far, 100.0f, top_return, 12.0, 120.0);
+  EXPECT_EQ(sky[std::size_t(11) * kCols + 10], 1);
+  EXPECT_EQ(sky[std::size_t(12) * kCols + 10], 0);
+  EXPECT_EQ(sky[std::size_t(100) * kCols + 11], 1);
+}
+
+TEST(ImageGuided, VarianceGrowsAwayFromTheReturnsAndIsFiniteEverywhere) {
+  mm::DepthCompletionParams p = guidedParams();
+  p.guided.sky = false;
+  mm::DepthCompleter completer(2);
+  const auto map =
+      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+  for (std::size_t i = 0; i < map.variance.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(map.variance[i]) && map.variance[i] > 0.0f) << i;
+    ASSERT_TRUE(map.depth[i] > 0.0f && map.depth[i] <= 100.0f) << i;
+  }
+  // Relative to depth: tight at a return, wider where only the prior speaks.
+  const auto relative = [&](int row, int col) {
+    return map.variance[std::size_t(row) * kCols + col] / (at(map, row, col) * at(map, row, col));
+  };
+  EXPECT_LT(relative(80, 60), relative(115, 5));
+}
+
+TEST(ImageGuided, StrideGridSamplesTheImageAtItsNodes) {
+  cv::Mat image(5, 7, CV_8UC1);
+  for (int r = 0; r < 5; ++r)
+    for (int c = 0; c < 7; ++c)
+      image.at<std::uint8_t>(r, c) = std::uint8_t(10 * r + c);
+  const cv::Mat guide = mm::guideOnGrid(image, {{5, 7}, 2});
+  ASSERT_EQ(guide.rows, 3);
+  ASSERT_EQ(guide.cols, 4);
+  EXPECT_EQ(guide.at<cv::Vec3b>(2, 3)[0], 10 * 4 + 6);
+}
+
+TEST(ImageGuided, MissingOrMismatchedImageIsAnInputError) {
+  mm::DepthCompleter completer(2);
+  EXPECT_THROW(completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, guidedParams()),
+               mm::InputError);
+  const cv::Mat small(10, 10, CV_8UC3, cv::Scalar::all(0));
+  EXPECT_THROW(
+      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, guidedParams(), small),
+      mm::InputError);
+  const cv::Mat floats(smallImage().height, smallImage().width, CV_32FC3);
+  EXPECT_THROW(
+      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, guidedParams(), floats),
+      mm::InputError);
+}
+
+TEST(ImageGuided, NoReturnsGiveTheSmoothedGroundPrior) {
+  mm::DepthCompletionParams p = guidedParams();
+  p.guided.sky = false;
+  mm::DepthCompleter completer(2);
+  const auto map = completer.complete({}, smallCamera(), {smallImage(), 1}, p, twoHalves());
+  // The smoothed ground prior: nearer towards the bottom of the image, within (0, far].
+  EXPECT_LT(at(map, 115, 40), at(map, 90, 40));
+  for (float d : map.depth)
+    ASSERT_TRUE(d > 0.0f && d <= 100.0f);
+}
