@@ -212,6 +212,7 @@ struct FrameResult {
   std::string gt_kind;
   std::size_t input_points = 0, input_in_view = 0, gt_points = 0;
   double runtime_ms = std::numeric_limits<double>::quiet_NaN();
+  std::string ground_source, ground_mode;  // ground_gp: its plane's source and its mode
   std::vector<RetentionResult> retention;
 };
 
@@ -424,6 +425,8 @@ int run(int argc, char** argv) {
       }
       res.runtime_ms = median(times);
       res.input_in_view = map.stats.points_in_view;
+      res.ground_source = map.stats.ground_source;
+      res.ground_mode = map.stats.ground_mode;
       depth.swap(map.depth);
       variance.swap(map.variance);
       predicted.swap(map.valid);
@@ -498,6 +501,9 @@ int run(int argc, char** argv) {
     full << "    {\"frame\": " << f.frame << ", \"gt\": \"" << f.gt_kind
          << "\", \"input_points\": " << f.input_points << ", \"input_in_view\": " << f.input_in_view
          << ", \"gt_points\": " << f.gt_points << ", \"runtime_ms\": " << num(f.runtime_ms)
+         << (f.ground_mode.empty() ? ""
+                                   : ", \"ground_source\": \"" + f.ground_source +
+                                         "\", \"ground_mode\": \"" + f.ground_mode + "\"")
          << ", \"retention\": [";
     for (std::size_t l = 0; l < f.retention.size(); ++l) {
       const RetentionResult& r = f.retention[l];

@@ -1,6 +1,11 @@
 #include "depth_options.hpp"
 
-#include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
 #include "multimodal_nvs/core/io/vod_pose.hpp"
 
@@ -26,7 +31,8 @@ void declareDepthModelOptions(Args& args) {
   args.option("ground-pose", 1,
               "ground_gp: VoD pose file giving the camera's height and tilt "
               "(default with --vod-root: the frame's pose)");
-  args.option("pose-key", 1, "key in the pose file", "odomToCamera");
+  args.option("pose-key", 1,
+              "key in the pose file (default: odomToCamera, else mapToCamera, else the first)");
   args.option("camera-height", 1, "ground_gp: camera height above the ground without a pose",
               "1.3");
   args.option("far-depth", 1, "ground_gp: prior depth without any support (0: median depth)", "0");
@@ -85,12 +91,22 @@ void applyGroundPose(const Args& args, const std::string& default_pose, DepthCom
     pose_path = default_pose;
   }
   if (pose_path.empty()) return;
-  const GroundPlane plane = GroundPlane::fromCameraToWorld(
-      io::readVodPose(pose_path, args.str("pose-key", "odomToCamera")));
-  p.ground.up_x = plane.up.x();
-  p.ground.up_y = plane.up.y();
-  p.ground.up_z = plane.up.z();
-  p.ground.camera_height = plane.height;
+  std::ifstream in(pose_path, std::ios::binary);
+  if (!in) throw InputError(pose_path + ": cannot open pose file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  std::string key = args.str("pose-key");
+  if (key.empty()) {  // the pose is optional: any camera-to-world key serves for the ground
+    const std::vector<std::string> keys = io::vodPoseKeys(text.str(), pose_path);
+    for (const char* preferred : {"odomToCamera", "mapToCamera"}) {
+      if (key.empty() && std::find(keys.begin(), keys.end(), preferred) != keys.end()) {
+        key = preferred;
+      }
+    }
+    if (key.empty() && !keys.empty()) key = keys.front();
+    if (key.empty()) return;
+  }
+  applyCameraPose(io::parseVodPose(text.str(), key, pose_path), p.ground);
 }
 
 }  // namespace cli

@@ -10,14 +10,17 @@
 
 namespace multimodal_nvs {
 
+struct GroundChoice;
+
 /// True for nearest, linear, ipbasic and constant (the models that need no neighbour sets).
 bool isBaseline(DepthModel model);
 
 /// Runs `params.model` on the samples into `out`. `shift` is the targets' centre (computeShift of
 /// params.shift). Returns the number of neighbour sets (or tiles) the model solved, 0 for models
 /// without any.
+/// For ground_gp, `ground` (when given) receives the plane and mode it chose.
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
-                     PixelPredictions& out);
+                     PixelPredictions& out, GroundChoice* ground = nullptr);
 
 }  // namespace multimodal_nvs
