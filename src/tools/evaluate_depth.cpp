@@ -177,6 +177,7 @@ struct FrameResult {
   std::string gt_kind;
   std::size_t input_points = 0, input_in_view = 0, gt_points = 0;
   double runtime_ms = std::numeric_limits<double>::quiet_NaN();
+  std::string ground_source, ground_mode;  // ground_gp: its plane's source and its mode
   std::vector<RetentionResult> retention;
 };
 
@@ -394,6 +395,8 @@ int run(int argc, char** argv) {
       }
       res.runtime_ms = median(times);
       res.input_in_view = map.stats.points_in_view;
+      res.ground_source = map.stats.ground_source;
+      res.ground_mode = map.stats.ground_mode;
       depth.swap(map.depth);
       variance.swap(map.variance);
       predicted.swap(map.valid);
@@ -473,8 +476,12 @@ int run(int argc, char** argv) {
                          {"input_points", f.input_points},
                          {"input_in_view", f.input_in_view},
                          {"gt_points", f.gt_points},
-                         {"runtime_ms", mm::json::number(f.runtime_ms)},
-                         {"retention", retention}});
+                         {"runtime_ms", mm::json::number(f.runtime_ms)}});
+    if (!f.ground_mode.empty()) {  // ground_gp, image_guided: its plane's source and its mode
+      per_frame.back()["ground_source"] = f.ground_source;
+      per_frame.back()["ground_mode"] = f.ground_mode;
+    }
+    per_frame.back()["retention"] = retention;
   }
   if (!o.output.empty()) {
     const mm::json::Json full = {

@@ -10,6 +10,7 @@
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_shift.hpp"
+#include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/model_registry.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
@@ -106,8 +107,14 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   PixelPredictions prediction;
   prediction.mean.swap(out.depth);
   prediction.variance.swap(out.variance);
+  GroundChoice ground;
   stats.neighbour_sets =
-      predictWithModel(samples, angles, params, stats.shift, *pool_, prediction, image);
+      predictWithModel(samples, angles, params, stats.shift, *pool_, prediction, image, &ground);
+  if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
+    stats.ground_source = toString(ground.source);
+    stats.ground_mode = ground.dense ? "dense" : "sparse";
+    stats.ground_inlier_fraction = ground.inlier_fraction;
+  }
 
   // Valid as the reference defines it, then retention among the valid pixels. Full-image passes
   // are split into chunks whose counts are summed afterwards (deterministic for any thread count).

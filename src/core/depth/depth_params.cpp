@@ -120,6 +120,10 @@ void DepthCompletionParams::validate() const {
     if (!(ground.dense_edge_ratio > 0.0) || !(ground.dense_relative_sigma >= 0.0)) {
       fail("ground dense_edge_ratio must be > 0 and dense_relative_sigma >= 0");
     }
+    if (!(ground.plane_distance > 0.0) || !(ground.precise_fraction >= 0.0) ||
+        !(ground.precise_fraction <= 1.0)) {
+      fail("ground plane_distance must be > 0 and precise_fraction in [0, 1]");
+    }
     if (!(ground.residual_amplitude >= 0.0) || !(ground.relative_sigma >= 0.0) ||
         !(ground.relative_sigma_per_deg >= 0.0) || !(ground.far_depth >= 0.0)) {
       fail("ground residual_amplitude, relative sigmas and far_depth must be >= 0");

@@ -1,7 +1,13 @@
 #include "depth_options.hpp"
 
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
 #include "multimodal_nvs/core/common/errors.hpp"
-#include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/io/vod_layout.hpp"
 
 namespace multimodal_nvs {
@@ -177,11 +183,25 @@ void applyGroundPose(const DepthModelOptions& o, const std::string& default_pose
     pose_path = default_pose;
   }
   if (pose_path.empty()) return;
-  const GroundPlane plane = GroundPlane::fromCameraToWorld(io::readVodPose(pose_path, o.pose_key));
-  p.ground.up_x = plane.up.x();
-  p.ground.up_y = plane.up.y();
-  p.ground.up_z = plane.up.z();
-  p.ground.camera_height = plane.height;
+  std::ifstream in(pose_path, std::ios::binary);
+  if (!in) throw InputError(pose_path + ": cannot open pose file (" + std::strerror(errno) + ")");
+  std::ostringstream text;
+  text << in.rdbuf();
+  // The pose is optional and its world need not be the odometry one: when the file lacks the key
+  // asked for and the key is the default, any camera-to-world key serves for the ground's tilt
+  // (applyCameraPose takes the height only when it is plausible for a road).
+  std::string key = o.pose_key;
+  const std::vector<std::string> keys = io::vodPoseKeys(text.str(), pose_path);
+  if (std::find(keys.begin(), keys.end(), key) == keys.end() && key == io::odometryVodPoseKey()) {
+    const auto map_key = std::find(keys.begin(), keys.end(), std::string("mapToCamera"));
+    if (map_key != keys.end())
+      key = *map_key;
+    else if (!keys.empty())
+      key = keys.front();
+    else
+      return;
+  }
+  applyCameraPose(io::parseVodPose(text.str(), key, pose_path), p.ground);
 }
 
 }  // namespace cli

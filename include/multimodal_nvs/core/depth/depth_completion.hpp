@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <string>
 #include <vector>
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
@@ -23,6 +24,10 @@ struct DepthMapStats {
   int neighbour_sets = 0;          ///< distinct neighbour sets (tiles in the approximation)
   double shift = 0.0;
   double compute_ms = 0.0;
+  /// ground_gp only (empty otherwise): where its ground plane came from (returns, pose,
+  /// parameters), which mode ran (dense, sparse), and the share of the returns on the RANSAC plane.
+  std::string ground_source, ground_mode;
+  double ground_inlier_fraction = 0.0;
 };
 
 /// Dense depth on the stride grid, in the reference's layout: depth in metres (camera z), -1 where

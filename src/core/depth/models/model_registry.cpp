@@ -1,6 +1,7 @@
 #include "multimodal_nvs/core/depth/models/model_registry.hpp"
 
 #include "multimodal_nvs/core/depth/depth_shift.hpp"
+#include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/constant_model.hpp"
 #include "multimodal_nvs/core/depth/models/ground_gp_model.hpp"
@@ -15,13 +16,6 @@
 
 namespace multimodal_nvs {
 namespace {
-GroundPlane groundPlane(const GroundPriorParams& g) {
-  GroundPlane plane;
-  plane.up = Eigen::Vector3d(g.up_x, g.up_y, g.up_z).normalized();
-  plane.height = g.camera_height;
-  return plane;
-}
-
 /// A model that needs no neighbour sets (the baselines), or nullptr for the GP models.
 using BaselineModel = void (*)(const std::vector<AngularSample>&, const PixelAngleGrid&,
                                const DepthCompletionParams&, ThreadPool&, PixelPredictions&);
@@ -53,19 +47,26 @@ bool isBaseline(DepthModel model) {
 
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
-                     PixelPredictions& out, const cv::Mat& image) {
+                     PixelPredictions& out, const cv::Mat& image, GroundChoice* ground) {
   if (const BaselineModel baseline = baselineModel(params.model)) {
     baseline(samples, angles, params, pool, out);
     return 0;
   }
+  // Both models that stand on the ground take its plane (and ground_gp its mode) from the returns
+  // when they allow it, else from the pose or the parameters.
+  GroundChoice choice;
+  if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
+    choice = chooseGround(samples, angles, params);
+    if (ground) *ground = choice;
+  }
   if (params.model == DepthModel::kImageGuided) {
-    predictImageGuided(samples, angles, params, groundPlane(params.ground), image, pool, out);
+    predictImageGuided(samples, angles, params, choice.plane, image, pool, out);
     return 0;
   }
-  if (params.model == DepthModel::kGroundGp && groundInputIsDense(samples, angles, params)) {
+  if (params.model == DepthModel::kGroundGp && choice.dense) {
     // Dense input needs no neighbour sets: the interpolating prior is the prediction.
-    predictGroundGpDense(samples, angles, params, groundPlane(params.ground),
-                         computeShift(DepthShift{}, samples), pool, out);
+    predictGroundGpDense(samples, angles, params, choice.plane, computeShift(DepthShift{}, samples),
+                         pool, out);
     return 0;
   }
   if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
@@ -77,7 +78,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     predictLocalGp(samples, angles, sets, params, shift, pool, out);
   } else if (params.model == DepthModel::kGroundGp) {
     const double median = computeShift(DepthShift{}, samples);
-    predictGroundGp(samples, angles, sets, params, groundPlane(params.ground), median, pool, out);
+    predictGroundGp(samples, angles, sets, params, choice.plane, median, pool, out);
   } else {
     predictKernel(samples, angles, sets, params, shift, pool, out);
   }

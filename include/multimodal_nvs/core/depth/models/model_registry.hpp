@@ -11,6 +11,8 @@
 
 namespace multimodal_nvs {
 
+struct GroundChoice;
+
 /// True for nearest, linear, ipbasic and constant (the models that need no neighbour sets).
 bool isBaseline(DepthModel model);
 
@@ -18,8 +20,10 @@ bool isBaseline(DepthModel model);
 /// params.shift). `image`: the camera image (used by image_guided only; may be empty for the
 /// others). Returns the number of neighbour sets (or tiles) the model solved, 0 for models
 /// without any.
+/// For ground_gp, `ground` (when given) receives the plane and mode it chose.
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
-                     PixelPredictions& out, const cv::Mat& image = cv::Mat());
+                     PixelPredictions& out, const cv::Mat& image = cv::Mat(),
+                     GroundChoice* ground = nullptr);
 
 }  // namespace multimodal_nvs

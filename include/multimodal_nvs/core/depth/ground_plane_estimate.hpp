@@ -1,0 +1,64 @@
+#pragma once
+// The ground plane from the returns themselves (RANSAC), and which plane ground_gp uses: the one
+// the returns show when they show one, else the pose's (tf or a pose file), else the parameters.
+#include <cstddef>
+#include <vector>
+
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+
+namespace multimodal_nvs {
+
+/// A RANSAC plane through the returns in view, near the expected ground.
+struct GroundPlaneFit {
+  bool found = false;            ///< a plausible plane (see estimateGroundPlane)
+  GroundPlane plane;             ///< valid when found
+  std::size_t returns = 0;       ///< returns considered (in view, within the range)
+  std::size_t inliers = 0;       ///< of those, within the distance threshold of the plane
+  double inlier_fraction = 0.0;  ///< inliers / returns (0 without returns)
+};
+
+/// Fits the ground by RANSAC (the normal within 20 deg of `expected.up`, then least squares on the
+/// inliers) on the returns in view within 40 m; deterministic. `found` requires at least
+/// min_returns returns spread over at least min_elevation_spread degrees of elevation (a 2D
+/// scanner's returns are all on its own scan plane, which is not the ground), a camera height in
+/// [min_height, max_height] and few returns clearly below the plane (nothing is seen through the
+/// road). The inlier fraction is reported either way: it tells LiDAR-precise returns (a quarter to
+/// most of them on the road within 10 cm) from radar returns (a few per cent; their elevation is
+/// coarse).
+GroundPlaneFit estimateGroundPlane(const std::vector<AngularSample>& samples,
+                                   const PixelAngleGrid& angles, const GroundPlane& expected,
+                                   const GroundPriorParams& params);
+
+/// What ground_gp uses, and why (reported in the depth stats and the nodelet's diagnostics).
+struct GroundChoice {
+  GroundPlane plane;
+  GroundPriorParams::PlaneSource source = GroundPriorParams::PlaneSource::kParameters;
+  bool dense = false;            ///< the dense (interpolating) mode, else the sparse (radar) one
+  double inlier_fraction = 0.0;  ///< of the RANSAC fit (0 when not fitted)
+  bool plane_fitted = false;     ///< a fit was attempted and gave a plausible plane
+};
+
+/// The plane given by the parameters (camera_height and up, which a pose or tf may have set).
+GroundPlane givenGroundPlane(const GroundPriorParams& params);
+
+/// The plane and the mode of ground_gp for these returns. Plane: the returns' RANSAC plane when
+/// params.estimate_plane and the fit holds at least precise_fraction of the returns, else the
+/// given one (params.plane_source says whether a pose or the parameters gave it). Mode
+/// (params.input auto): dense when the returns are LiDAR-precise (that same test), sparse when a
+/// fit was possible and failed it; without a possible fit (too few returns, or all on one scan
+/// plane) the mean-spacing rule of groundInputIsDense decides.
+GroundChoice chooseGround(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                          const DepthCompletionParams& params);
+
+/// Sets the given plane from a camera-to-world pose whose world z points up (a VoD pose, tf from
+/// odom or map): `up` always, the camera height only when the pose's z is a plausible height above
+/// the road (0.2-5 m); a map frame whose z = 0 is not the road keeps the parameters' height.
+/// plane_source becomes kPose.
+void applyCameraPose(const Eigen::Matrix4d& camera_to_world, GroundPriorParams& params);
+
+const char* toString(GroundPriorParams::PlaneSource source);
+
+}  // namespace multimodal_nvs

@@ -1,0 +1,225 @@
+#include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Eigenvalues>
+
+#include "multimodal_nvs/core/depth/models/ground_gp_model.hpp"
+
+namespace multimodal_nvs {
+namespace {
+// Returns farther than this are left out of the fit: the road bends and slopes with distance, and
+// a far return's elevation error is metres.
+constexpr double kMaxRangeM = 40.0;
+// The ground's normal within this angle of the expected up (pose, tf or parameters): a wall or a
+// vehicle's side is never taken for the ground, a slope of up to ~35 % is.
+constexpr double kMaxTiltDeg = 20.0;
+// Fewer returns than this in view give no fit (and no verdict on their precision).
+constexpr std::size_t kMinReturns = 30;
+// A 2D scanner (nuScenes' radar: 1.2 deg of elevation spread) has every return on its own scan
+// plane; scanning LiDAR and 3D radar spread over 2.7-8 deg (measured on VoD, Astyx, nuScenes).
+constexpr double kMinElevationSpreadDeg = 2.0;
+// A camera on a vehicle or a robot sits this high above the road.
+constexpr double kMinHeightM = 0.2, kMaxHeightM = 5.0;
+// Returns more than this below the plane contradict it (nothing is seen through the road); at most
+// this share of them is tolerated (noise, multipath).
+constexpr double kBelowM = 0.5, kMaxBelowFraction = 0.05;
+// RANSAC budget: returns used for the fit (every k-th beyond this) and iterations; the inliers are
+// then counted on every return.
+constexpr std::size_t kMaxFitPoints = 4000;
+constexpr int kMaxIterations = 200;
+
+struct InView {
+  std::vector<Eigen::Vector3d> points;
+  double elevation_spread_deg = 0.0;  // standard deviation
+};
+
+InView returnsInView(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles) {
+  InView v;
+  const StrideGrid& grid = angles.grid();
+  const PinholeIntrinsics& k = angles.intrinsics();
+  double sum = 0.0, sum2 = 0.0;
+  for (const AngularSample& s : samples) {
+    if (!(s.depth > 0.0f) || !std::isfinite(s.depth)) continue;
+    double u = 0.0, v_px = 0.0;
+    if (!angularToPixel(k, s.azimuth_deg, s.elevation_deg, &u, &v_px)) continue;
+    if (u < 0.0 || v_px < 0.0 || u > grid.image.width - 1 || v_px > grid.image.height - 1) continue;
+    const Eigen::Vector2d ray = normalisedFromAngles(s.azimuth_deg, s.elevation_deg);
+    const Eigen::Vector3d p(ray.x() * s.depth, ray.y() * s.depth, s.depth);
+    if (p.norm() > kMaxRangeM) continue;
+    v.points.push_back(p);
+    sum += s.elevation_deg;
+    sum2 += double(s.elevation_deg) * s.elevation_deg;
+  }
+  const double n = static_cast<double>(v.points.size());
+  if (n > 0) v.elevation_spread_deg = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
+  return v;
+}
+// A plane n . X + offset = 0, |n| = 1, n on the camera's side (towards `up`): the camera (X = 0)
+// is `offset` above it.
+struct RansacPlane {
+  Eigen::Vector3d normal{0.0, -1.0, 0.0};
+  double offset = 0.0;
+  std::size_t inliers = 0;
+};
+
+// RANSAC (Fischler and Bolles 1981) for the plane with the most returns within `distance`, among
+// the planes whose normal is within kMaxTiltDeg of `up`. Written here rather than taken from PCL's
+// sample_consensus: Debian's PCL is built for generic x86-64 (Eigen's 16-byte alignment and
+// malloc) while this package compiles with -march=native (64-byte alignment on AVX-512), and
+// mixing the two crashed in Eigen's aligned free on the first call (measured). Deterministic: a
+// fixed-seed generator, so a scan always gives the same plane.
+RansacPlane ransacPlane(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& up,
+                        double distance) {
+  RansacPlane best;
+  const std::size_t n = points.size();
+  if (n < 3) return best;
+  const double min_cos = std::cos(kMaxTiltDeg * M_PI / 180.0);
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;  // splitmix64
+  auto next = [&state, n]() {
+    state += 0x9E3779B97F4A7C15ull;
+    std::uint64_t z = state;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<std::size_t>((z ^ (z >> 31)) % n);
+  };
+  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    const Eigen::Vector3d& a = points[next()];
+    const Eigen::Vector3d& b = points[next()];
+    const Eigen::Vector3d& c = points[next()];
+    Eigen::Vector3d normal = (b - a).cross(c - a);
+    const double length = normal.norm();
+    if (!(length > 1e-9)) continue;
+    normal /= length;
+    if (normal.dot(up) < 0.0) normal = -normal;
+    if (normal.dot(up) < min_cos) continue;
+    const double offset = -normal.dot(a);
+    std::size_t inliers = 0;
+    for (const Eigen::Vector3d& p : points)
+      inliers += std::abs(normal.dot(p) + offset) <= distance;
+    if (inliers > best.inliers) best = {normal, offset, inliers};
+  }
+  return best;
+}
+
+// Least-squares plane (smallest principal axis) of the returns within `distance` of the plane,
+// keeping the orientation towards the camera. Unchanged with fewer than 3 inliers.
+void refineOnInliers(const std::vector<Eigen::Vector3d>& points, double distance,
+                     Eigen::Vector3d& normal, double& offset) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  std::size_t count = 0;
+  for (const Eigen::Vector3d& p : points) {
+    if (std::abs(normal.dot(p) + offset) > distance) continue;
+    mean += p;
+    ++count;
+  }
+  if (count < 3) return;
+  mean /= double(count);
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : points) {
+    if (std::abs(normal.dot(p) + offset) > distance) continue;
+    scatter += (p - mean) * (p - mean).transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+  Eigen::Vector3d refined = solver.eigenvectors().col(0);  // smallest eigenvalue
+  if (!refined.allFinite()) return;
+  if (refined.dot(normal) < 0.0) refined = -refined;
+  normal = refined.normalized();
+  offset = -normal.dot(mean);
+}
+}  // namespace
+
+GroundPlane givenGroundPlane(const GroundPriorParams& g) {
+  GroundPlane plane;
+  plane.up = Eigen::Vector3d(g.up_x, g.up_y, g.up_z).normalized();
+  plane.height = g.camera_height;
+  return plane;
+}
+
+GroundPlaneFit estimateGroundPlane(const std::vector<AngularSample>& samples,
+                                   const PixelAngleGrid& angles, const GroundPlane& expected,
+                                   const GroundPriorParams& params) {
+  GroundPlaneFit fit;
+  const InView view = returnsInView(samples, angles);
+  fit.returns = view.points.size();
+  if (fit.returns < kMinReturns || view.elevation_spread_deg < kMinElevationSpreadDeg) return fit;
+
+  const std::size_t every = (fit.returns + kMaxFitPoints - 1) / kMaxFitPoints;
+  std::vector<Eigen::Vector3d> fit_points;
+  for (std::size_t i = 0; i < fit.returns; i += every)
+    fit_points.push_back(view.points[i]);
+  const RansacPlane best = ransacPlane(fit_points, expected.up, params.plane_distance);
+  if (best.inliers == 0) return fit;
+  Eigen::Vector3d normal = best.normal;
+  double d = best.offset;
+  refineOnInliers(view.points, params.plane_distance, normal, d);
+  std::size_t below = 0;
+  for (const Eigen::Vector3d& p : view.points) {
+    const double signed_distance = normal.dot(p) + d;
+    fit.inliers += std::abs(signed_distance) <= params.plane_distance;
+    below += signed_distance < -kBelowM;
+  }
+  fit.inlier_fraction = double(fit.inliers) / double(fit.returns);
+  fit.plane.up = normal;
+  fit.plane.height = d;
+  fit.found = d >= kMinHeightM && d <= kMaxHeightM &&
+              double(below) <= kMaxBelowFraction * double(fit.returns);
+  return fit;
+}
+
+GroundChoice chooseGround(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                          const DepthCompletionParams& params) {
+  using Input = GroundPriorParams::Input;
+  const GroundPriorParams& g = params.ground;
+  GroundChoice choice;
+  choice.plane = givenGroundPlane(g);
+  choice.source = g.plane_source;
+  // The fit serves the plane (estimate_plane) and the auto mode; skip it when neither needs it.
+  GroundPlaneFit fit;
+  const bool fit_needed = g.estimate_plane || g.input == Input::kAuto;
+  if (fit_needed) fit = estimateGroundPlane(samples, angles, choice.plane, g);
+  const bool judged = fit.returns >= kMinReturns && fit.inliers > 0;
+  const bool precise = judged && fit.inlier_fraction >= g.precise_fraction;
+  choice.inlier_fraction = fit.inlier_fraction;
+  choice.plane_fitted = fit.found;
+  if (g.estimate_plane && fit.found && precise) {
+    choice.plane = fit.plane;
+    choice.source = GroundPriorParams::PlaneSource::kReturns;
+  }
+  if (g.input != Input::kAuto) {
+    choice.dense = g.input == Input::kDense;
+  } else if (judged) {
+    choice.dense = precise;
+  } else {
+    choice.dense = groundInputIsDense(samples, angles, params);
+  }
+  return choice;
+}
+
+void applyCameraPose(const Eigen::Matrix4d& camera_to_world, GroundPriorParams& params) {
+  const GroundPlane plane = GroundPlane::fromCameraToWorld(camera_to_world);
+  if (!plane.up.allFinite()) return;
+  params.up_x = plane.up.x();
+  params.up_y = plane.up.y();
+  params.up_z = plane.up.z();
+  if (plane.height >= kMinHeightM && plane.height <= kMaxHeightM) {
+    params.camera_height = plane.height;
+  }
+  params.plane_source = GroundPriorParams::PlaneSource::kPose;
+}
+
+const char* toString(GroundPriorParams::PlaneSource source) {
+  switch (source) {
+    case GroundPriorParams::PlaneSource::kParameters:
+      return "parameters";
+    case GroundPriorParams::PlaneSource::kPose:
+      return "pose";
+    case GroundPriorParams::PlaneSource::kReturns:
+      return "returns";
+  }
+  return "unknown";
+}
+
+}  // namespace multimodal_nvs
