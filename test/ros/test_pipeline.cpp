@@ -276,7 +276,7 @@ TEST_F(PipelineTest, VarianceIsNonNegativeAndFiniteWhereKept) {
 TEST_F(PipelineTest, DepthComesFromTheFilteredCloud) {
   if (filtered_topic_.empty()) GTEST_SKIP() << "no pcl_ros filters in this launch";
   const Outputs& o = *outputs_;
-  ASSERT_EQ(o.stats.size(), std::size_t(kFrames));
+  ASSERT_FALSE(o.stats.empty());
   for (const auto& stats : o.stats) {
     const auto cloud = withStamp(o.filtered, stats->header.stamp);
     ASSERT_TRUE(cloud) << "no " << filtered_topic_ << " at " << stats->header.stamp;
