@@ -395,7 +395,9 @@ TEST_F(PipelineTest, ConditioningFramesCarryTheCameraHeader) {
   for (const auto& image : o.conditioning) {
     SCOPED_TRACE("conditioning/image at " + std::to_string(image->header.stamp.toSec()));
     EXPECT_EQ(image->header.frame_id, "camera_optical");
-    EXPECT_TRUE(withStamp(o.depth, image->header.stamp)) << "no depth/image with this stamp";
+    // The renderer follows the camera: every camera image of the bag gets a frame, whether or not
+    // a depth set came with it.
+    EXPECT_EQ(kBagStamps.count(image->header.stamp), 1u) << "not a camera stamp of the bag";
   }
   for (const auto& mask : o.conditioning_mask) {
     SCOPED_TRACE("conditioning/mask at " + std::to_string(mask->header.stamp.toSec()));

@@ -25,7 +25,7 @@ TEST(RvizScreenshot, DepthAndUncertaintyPanelsShowImages) {
   ASSERT_NE(mkdtemp(pattern), nullptr) << std::strerror(errno);
   const std::string dir = pattern;
   ToolResult result = runTool("make_synthetic_scene", "--output " + dir +
-                                                          "/scene --scale 0.25 --frames 6 "
+                                                          "/scene --scale 0.25 --num-frames 6 "
                                                           "--threads 1 --quiet");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   result =

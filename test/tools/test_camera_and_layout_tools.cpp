@@ -32,10 +32,10 @@ void writeScene(const std::string& model, const std::string& d) {
       << "\ndistortion_coefficients:\n  data: " << d << "\n";
 }
 
-std::string sceneArgs() {
+/// The scene's command line with `camera_info` as its --camera-info.
+std::string sceneArgs(const std::string& camera_info = dir() + "lens_info.yaml") {
   return "--points " + dir() + "lens_points.bin --calib " + dir() +
-         "lens_calib.txt --camera-info " + dir() +
-         "lens_info.yaml --image-size 120 160 --model nearest";
+         "lens_calib.txt --camera-info " + camera_info + " --image-size 120 160 --model nearest";
 }
 
 }  // namespace
@@ -60,7 +60,7 @@ TEST(CameraInfoOption, PlumbBobRunsAndUnsupportedModelsAreNamed) {
       << short_d.output;
 
   const auto missing =
-      runTool("complete_depth", sceneArgs() + " --camera-info " + dir() + "no_such.yaml");
+      runTool("complete_depth", sceneArgs(dir() + "no_such.yaml"));
   EXPECT_NE(missing.exit_code, 0);
   EXPECT_NE(missing.output.find("No such file or directory"), std::string::npos) << missing.output;
 }

@@ -113,10 +113,16 @@ TEST(ToolCommandLines, MalformedPoseJsonIsAnInputErrorWithThePosition) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("cl_pose_bad.json:2:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("malformed pose JSON"), std::string::npos) << r.output;
-  std::ofstream(dir() + "cl_pose_key.json") << "{\"mapToCamera\": [1, 0, 0]}\n";
+  // A pose file without the default key (odometry) serves with its map pose; a key asked for by
+  // name must be there.
+  std::ofstream(dir() + "cl_pose_key.json")
+      << "{\"mapToCamera\": [1, 0, 0, 5, 0, 0, 1, 7, 0, -1, 0, 1.5, 0, 0, 0, 1]}\n";
   r = runTool("complete_depth", in + "--ground-pose " + dir() + "cl_pose_key.json");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = runTool("complete_depth",
+              in + "--ground-pose " + dir() + "cl_pose_key.json --pose-key utmToCamera");
   EXPECT_EQ(r.exit_code, 1) << r.output;
-  EXPECT_NE(r.output.find("'odomToCamera' not found (keys present: mapToCamera)"),
+  EXPECT_NE(r.output.find("'utmToCamera' not found (keys present: mapToCamera)"),
             std::string::npos)
       << r.output;
   r = runTool("complete_depth", in + "--ground-pose /nonexistent/pose.json");

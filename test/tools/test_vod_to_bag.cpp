@@ -295,8 +295,8 @@ TEST(VodToBag, BadInputGivesAClearMessageAndNoBag) {
       {"--vod-root " + no_key + " --pose-key mapToCamera", "'mapToCamera' not found", 1},
       {"--vod-root " + no_calib, "radar/training/calib", 1},
       {"--vod-root /nonexistent/vod", "no View-of-Delft frame", 1},
-      {"--vod-root " + sceneRoot() + " --frames 500-600", "no View-of-Delft frame in 500-600", 1},
-      {"--vod-root " + sceneRoot() + " --frames 9-3", "range is empty", 2},
+      {"--vod-root " + sceneRoot() + " --frames 500-600", "no View-of-Delft frame among the 101 selected", 1},
+      {"--vod-root " + sceneRoot() + " --frames 9-3", "needs A <= B", 2},
       {"--vod-root " + sceneRoot() + " --rate 0", "--rate", 2},
       {"", "--vod-root", 2},
   };
