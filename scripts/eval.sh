@@ -80,7 +80,7 @@ NVS_RETENTION=${EVAL_RETENTION:-80}
 
 # Depth models of the tables. On LiDAR input the GP uses the documented tile approximation (the
 # exact GP takes about a minute per frame on 1-in-4 LiDAR even at stride 4: measured 58 s).
-read -r -a MODELS <<< "${EVAL_MODELS:-local_gp_mle ground_gp kernel nearest linear ipbasic constant}"
+read -r -a MODELS <<< "${EVAL_MODELS:-local_gp_mle ground_gp image_guided kernel nearest linear ipbasic constant}"
 read -r -a NVS_MODELS <<< "${EVAL_NVS_MODELS:-${MODELS[*]}}"
 LIDAR_GP_ARGS=(--max-neighbors 64)
 # Kernel regression on all LiDAR returns (the novel views): a 1 deg radius (its 2 deg radius holds

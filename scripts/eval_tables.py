@@ -31,6 +31,7 @@ SUM_KEYS = ("gt_pixels", "count", "abs_error", "sq_error", "sq_log_error", "abs_
 MODEL_NAMES = {
     "local_gp_mle": "Local GP (MLE length scale)",
     "ground_gp": "ground_gp (this package)",
+    "image_guided": "image_guided (this package)",
     "kernel": "Kernel regression",
     "nearest": "Nearest sample",
     "linear": "Linear (Delaunay)",
