@@ -232,7 +232,7 @@ def rviz_section(folder, rel, metrics):
             if line.startswith("rviz panel "):
                 name, value = line[len("rviz panel "):].split(": coloured share ")
                 shares.append((name, value.split()[0]))
-                metrics.append(("rviz", "coloured share of the %s panel" % name, value.split()[0]))
+                metrics.append(("rviz", "coloured share of the %s panel" % name, value.split()[0], ""))
     listing = "".join("<li>%s: %s</li>" % (html.escape(n), html.escape(v)) for n, v in shares)
     return ('<h2>rviz (roslaunch multimodal_nvs demo.launch gui:=true)</h2><p>rviz/multimodal_nvs.rviz '
             'on a 1600x1000 virtual screen: the cloud coloured by its standard deviation (0..10 m), '
