@@ -2,6 +2,8 @@
 // optional source of the plane, and the variance calibration.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <random>
 #include <vector>
@@ -38,7 +40,9 @@ std::vector<Eigen::Vector3d> roadScan(double height, double pitch_deg, int step,
   const mm::PinholeIntrinsics k = smallCamera();
   const Eigen::Vector3d up = upForPitch(pitch_deg);
   std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, elevation_noise_deg * kPi / 180.0);
+  // A normal distribution needs a positive spread (libstdc++ asserts it); it is drawn from only
+  // when there is noise.
+  std::normal_distribution<double> noise(0.0, std::max(elevation_noise_deg, 1e-9) * kPi / 180.0);
   std::vector<Eigen::Vector3d> points;
   for (int v = 0; v < 120; v += step) {
     for (int u = 0; u < 160; u += step) {
