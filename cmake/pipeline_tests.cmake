@@ -47,10 +47,10 @@ add_dependencies(test_renderer_vod ${PROJECT_NAME}_generate_messages_cpp
 # 3 of 3 runs on a quiet machine (17 s), then rviz hung at OGRE's start-up ("Forcing OpenGl version
 # 0", Mesa llvmpipe under Xvfb) in 4 of 4 runs while the CI rehearsal's sanitizer builds ran; until
 # that is understood it would make CI fail on the machine's state, not on the package.
-catkin_add_executable_with_gtest(test_rviz_screenshot test/ros/test_rviz_screenshot.cpp
-  WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
+catkin_add_executable_with_gtest(test_rviz_screenshot test/ros/test_rviz_screenshot.cpp)
 target_include_directories(test_rviz_screenshot PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
 target_link_libraries(test_rviz_screenshot ${GTEST_MAIN_LIBRARIES})
 target_compile_definitions(test_rviz_screenshot PRIVATE
-  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
+  MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}"
+  MMNVS_SOURCE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
 add_dependencies(test_rviz_screenshot ${MMNVS_PIPELINE_TEST_DEPENDENCIES})

@@ -32,7 +32,7 @@ TEST(RvizScreenshot, DepthAndUncertaintyPanelsShowImages) {
       runTool("vod_to_bag", "--vod-root " + dir + "/scene --output " + dir + "/scene.bag --quiet");
   ASSERT_EQ(result.exit_code, 0) << result.output;
 
-  result = runCommand("scripts/rviz_screenshot.sh " + dir + "/scene.bag " + dir + "/rviz.png");
+  result = runCommand(std::string(MMNVS_SOURCE_DIR) + "/scripts/rviz_screenshot.sh " + dir + "/scene.bag " + dir + "/rviz.png");
   std::printf("%s", result.output.c_str());  // the shares, in the test log
   EXPECT_EQ(result.exit_code, 0) << result.output;
   EXPECT_TRUE(fs::exists(dir + "/rviz.png"));

@@ -50,9 +50,11 @@ std::vector<double> matrixData(const YAML::Node& root, const std::string& source
     const double rows = number(node["rows"], source, key + ".rows");
     const double cols = number(node["cols"], source, key + ".cols");
     if (rows * cols != static_cast<double>(values.size())) {
-      throw InputError(source + ": '" + key + "' says " + std::to_string(int(rows)) + "x" +
-                       std::to_string(int(cols)) + " but has " + std::to_string(values.size()) +
-                       " numbers");
+      // Printed as the file wrote them: rows/cols may be any finite number here, far outside int.
+      std::ostringstream message;
+      message << source << ": '" << key << "' says " << rows << "x" << cols << " but has "
+              << values.size() << " numbers";
+      throw InputError(message.str());
     }
   }
   return values;

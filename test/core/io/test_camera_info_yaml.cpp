@@ -49,6 +49,12 @@ TEST(CameraInfoYaml, ErrorsNameTheFileAndTheKey) {
               io::parseCameraInfoYaml(yaml("plumb_bob", "[0.1, 0.2, 0.0, 0.0]"), "f.yaml");
             }).find("'distortion_coefficients' says 1x5 but has 4 numbers"),
             std::string::npos);
+  // A size far outside int is reported as written (the fuzzer found the int conversion's UB).
+  std::string huge_rows = yaml("plumb_bob", "[0, 0, 0, 0, 0]");
+  huge_rows.replace(huge_rows.find("rows: 1"), 7, "rows: 2.2e17");
+  EXPECT_NE(inputErrorOf([&] { io::parseCameraInfoYaml(huge_rows, "k.yaml"); })
+                .find("'distortion_coefficients' says 2.2e+17x5 but has 5 numbers"),
+            std::string::npos);
   EXPECT_NE(inputErrorOf([] {
               io::parseCameraInfoYaml(yaml("plumb_bob", "[a, 0, 0, 0, 0]"), "g.yaml");
             }).find("not a finite number"),
