@@ -55,8 +55,10 @@ struct BurstOptions {
 };
 
 /// One chunk of a burst: frames[i] is view first + i of the trajectory. The frames are
-/// overwritten by the next chunk.
-using BurstChunkSink = std::function<void(int first, const std::vector<RenderedFrame>& frames)>;
+/// overwritten by the next chunk; a sink that keeps a frame moves it out (a shallow cv::Mat copy
+/// would be overwritten: cv::Mat::create reuses a buffer of the right size whatever its reference
+/// count), and the splatter allocates that frame's buffers afresh.
+using BurstChunkSink = std::function<void(int first, std::vector<RenderedFrame>& frames)>;
 /// One frame of a burst: view `index` of the trajectory, handed over in trajectory order.
 using BurstFrameSink = std::function<void(int index, const RenderedFrame& frame)>;
 
