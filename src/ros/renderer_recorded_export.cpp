@@ -11,6 +11,7 @@
 #include "multimodal_nvs/core/common/json_output.hpp"
 #include "multimodal_nvs/core/eval/nvs_metrics.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
+#include "multimodal_nvs/core/render/burst_pipeline.hpp"
 #include "multimodal_nvs/core/render/preview.hpp"
 #include "multimodal_nvs/core/render/render_burst.hpp"
 #include "multimodal_nvs/ros/preset_burst.hpp"
@@ -199,25 +200,33 @@ Trajectory renderInto(const std::string& dir, PointSplatter& splatter, const Rec
   }
   Gen3cBurstExport gen3c(dir + "/gen3c", key.image_bgr, num_frames, size,
                          Gen3cFolderWrite::kInPlace);
-  std::vector<NvsFrameMetrics> metrics;
+  std::vector<NvsFrameMetrics> metrics, metrics_of_frame(static_cast<std::size_t>(num_frames));
+  std::vector<char> has_metrics(static_cast<std::size_t>(num_frames), 0);
   if (cancelled()) throw ExportCancelled{};
-  renderBurstChunks(
-      splatter, job.cloud, trajectory, job.settings.splat,
-      [&](int first, const std::vector<RenderedFrame>& frames) {
-        for (std::size_t i = 0; i < frames.size(); ++i) {
-          const int index = first + static_cast<int>(i);
-          gen3c.append(frames[i]);
-          const int pose = pose_of_frame[static_cast<std::size_t>(index)];
-          if (pose < 0) continue;
-          const cv::Mat& gt = job.poses.ground_truth[static_cast<std::size_t>(pose)];
-          if (gt.empty()) continue;
-          metrics.push_back(nvsFrameMetrics(
-              index, groundTruthName(key.header, job.poses.stamps[static_cast<std::size_t>(pose)]),
-              frames[i], fillHolesPushPull(frames[i].bgr, frames[i].mask), gt));
-        }
-        progress(first + static_cast<int>(frames.size()), num_frames);
-        if (cancelled()) throw ExportCancelled{};
-      });
+  // The metrics (preview fill, SSIM) on worker threads while the next chunk renders; the arrays
+  // and the progress in frame order.
+  BurstFrameStages stages;
+  stages.parallel = [&](int index, RenderedFrame& frame, int) {
+    const auto i = static_cast<std::size_t>(index);
+    const int pose = pose_of_frame[i];
+    if (pose < 0) return;
+    const cv::Mat& gt = job.poses.ground_truth[static_cast<std::size_t>(pose)];
+    if (gt.empty()) return;
+    metrics_of_frame[i] = nvsFrameMetrics(
+        index, groundTruthName(key.header, job.poses.stamps[static_cast<std::size_t>(pose)]), frame,
+        fillHolesPushPull(frame.bgr, frame.mask), gt);
+    has_metrics[i] = 1;
+  };
+  stages.ordered = [&](int index, RenderedFrame& frame) {
+    const auto i = static_cast<std::size_t>(index);
+    gen3c.append(frame);
+    if (has_metrics[i] != 0) metrics.push_back(metrics_of_frame[i]);
+    progress(index + 1, num_frames);
+    if (cancelled()) throw ExportCancelled{};
+  };
+  BurstPipelineOptions pipeline;
+  pipeline.workers = splatter.threads();
+  renderBurstPipelined(splatter, job.cloud, trajectory, job.settings.splat, stages, pipeline);
   gen3c.finish();
   json::writeTextFile(dir + "/metrics.json",
                       nvsMetricsJson(metrics, toString(job.settings.splat.mode)));

@@ -106,7 +106,8 @@ struct RecordedExportResult {
 
 /// OUTPUT_DIR/<keyframe stamp>/ (gen3cExportFolder's name), written under FOLDER.partial and
 /// renamed when complete; a failed or cancelled export removes FOLDER.partial. `progress` gets
-/// (frames written, frames in all) after every chunk; `cancelled` is asked before every chunk.
+/// (frames written, frames in all) after every frame; `cancelled` is asked before the burst and
+/// after every frame.
 RecordedExportResult exportRecordedTrajectory(PointSplatter& splatter, const RecordedExportJob& job,
                                               const std::function<void(int, int)>& progress,
                                               const std::function<bool()>& cancelled);
