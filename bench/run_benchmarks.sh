@@ -4,7 +4,8 @@
 #      (default 5); prints one line per case with the median real and CPU time;
 #   2. the node latency harnesses: bench/ros/bench_depth_node.sh at stride 1 and 2 (median node
 #      latency, end-to-end latency and compute time of 150 sets at 15 Hz) and
-#      bench/ros/bench_renderer.sh at stride 2 (median render, callback and end-to-end times).
+#      bench/ros/bench_renderer.sh at stride 2 (median render, callback and end-to-end times);
+#   3. bench/bench_render_conditioning.sh: median wall time of render_conditioning's GEN3C export.
 # Cases on ../shared/data (MMNVS_DATA_DIR) report "data not found" instead of a time when the data
 # is missing; BENCH_NODE=0 skips the node harnesses.
 set -uo pipefail
@@ -39,6 +40,9 @@ for b in report["benchmarks"]:
             b["run_name"], b["real_time"], b["time_unit"], b["cpu_time"], b["time_unit"]))
 PY
 done
+
+echo "[bench] bench_render_conditioning: the GEN3C export of VoD 08350 (121 frames), 3 runs"
+bench/bench_render_conditioning.sh "$BUILD_DIR" 3 || { echo "[bench] bench_render_conditioning FAILED" >&2; status=1; }
 
 if [[ "${BENCH_NODE:-1}" != 0 ]]; then
   echo "[bench] bench_depth_node: the standalone node fed VoD 08350 at 15 Hz, stride 1 and 2"
