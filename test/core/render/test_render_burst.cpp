@@ -81,16 +81,22 @@ std::string fileBytes(const std::string& path) {
 
 }  // namespace
 
-class BurstModes : public ::testing::TestWithParam<mm::SplatMode> {};
+/// The scene in one splat mode, with the reference: every frame in one render call on one thread.
+class BurstModes : public ::testing::TestWithParam<mm::SplatMode> {
+ protected:
+  void SetUp() override {
+    params.mode = GetParam();
+    mm::PointSplatter single(1);
+    reference = single.render(cloud, traj, 0, kFrames, params);
+  }
 
-TEST_P(BurstModes, FramesDoNotDependOnChunkSizeOrThreads) {
   const mm::ColoredCloud cloud = sceneCloud();
   const mm::Trajectory traj = sceneTrajectory();
   mm::SplatParams params;
-  params.mode = GetParam();
-  // Reference: every frame in one render call on one thread.
-  mm::PointSplatter single(1);
-  const std::vector<mm::RenderedFrame> reference = single.render(cloud, traj, 0, kFrames, params);
+  std::vector<mm::RenderedFrame> reference;
+};
+
+TEST_P(BurstModes, FramesDoNotDependOnChunkSizeOrThreads) {
   ASSERT_EQ(reference.size(), std::size_t(kFrames));
   EXPECT_GT(cv::countNonZero(reference[0].mask), 0);
   EXPECT_FALSE(sameMat(reference[0].bgr, reference[kFrames - 1].bgr));  // the views differ
@@ -176,16 +182,7 @@ TEST(RenderBurst, EmptyCloudThrowsInputError) {
                mm::InputError);
 }
 
-class BurstPipelineModes : public ::testing::TestWithParam<mm::SplatMode> {};
-
-TEST_P(BurstPipelineModes, FramesMatchThePlainBurstInOrderForAnyThreadCount) {
-  const mm::ColoredCloud cloud = sceneCloud();
-  const mm::Trajectory traj = sceneTrajectory();
-  mm::SplatParams params;
-  params.mode = GetParam();
-  mm::PointSplatter single(1);
-  const std::vector<mm::RenderedFrame> reference = single.render(cloud, traj, 0, kFrames, params);
-
+TEST_P(BurstModes, PipelinedFramesMatchThePlainBurstInOrderForAnyThreadCount) {
   for (int threads : {1, 2, 3}) {
     for (int workers : {1, 2, 4}) {
       for (int pending : {0, 1, 3}) {
@@ -229,9 +226,6 @@ TEST_P(BurstPipelineModes, FramesMatchThePlainBurstInOrderForAnyThreadCount) {
     }
   }
 }
-
-INSTANTIATE_TEST_SUITE_P(BurstPipeline, BurstPipelineModes,
-                         ::testing::Values(mm::SplatMode::kGen3c, mm::SplatMode::kZbuffer));
 
 TEST(BurstPipeline, ParallelStageErrorStopsTheBurstAndIsRethrown) {
   const mm::ColoredCloud cloud = sceneCloud();
