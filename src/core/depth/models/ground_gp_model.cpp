@@ -333,10 +333,14 @@ bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAn
 
 void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                           const DepthCompletionParams& params, const GroundPlane& plane,
-                          double median_depth, ThreadPool& pool, PixelPredictions& out) {
+                          double median_depth, ThreadPool& pool, PixelPredictions& out,
+                          ModelScratch& scratch) {
   const GroundPriorParams& g = params.ground;
   const std::size_t n = static_cast<std::size_t>(angles.grid().size());
-  setNoPrediction(angles.grid(), out);
+  // No fill: every pixel is written below, inside a triangle by the rasteriser, else by the gap
+  // pass.
+  out.mean.resize(n);
+  out.variance.resize(n);
   const std::vector<AngularTriangle> triangles = triangulateSamples(samples, angles);
   std::vector<DenseVertexInfo> info(triangles.size());
   pool.parallelFor(
@@ -361,8 +365,10 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   auto same_surface = [ratio](const bool* ground, const double* z, int a, int b) {
     return (ground[a] && ground[b]) || std::max(z[a], z[b]) <= ratio * std::min(z[a], z[b]);
   };
-  std::vector<std::uint8_t> filled;
-  std::vector<float> longest(n, 0.0f);
+  std::vector<std::uint8_t>& filled = scratch.filled;
+  // Read only where filled, and written wherever the rasteriser fills: no initialisation.
+  std::vector<float>& longest = scratch.longest_edge;
+  longest.resize(n);
   rasterizeTriangles(
       triangles, angles, pool, filled,
       [&](const AngularTriangle& t, double l0, double l1, double l2, std::size_t pixel, float az,
