@@ -8,6 +8,7 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "multimodal_nvs/core/common/distance_transform.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/models/distance_variance.hpp"
@@ -50,13 +51,13 @@ void fillFromDilation(cv::Mat& image, int size, cv::Mat& dilated, cv::Mat& empty
 struct IpBasicScratch {
   cv::Mat dilated, median, smooth;
   cv::Mat mask;
+  cv::Mat vertical;  // of the distance transform
 };
 
 }  // namespace
 
 void predictIpBasic(const std::vector<AngularSample>& all_samples, const PixelAngleGrid& angles,
-                    const DepthCompletionParams& params, ThreadPool& /*pool*/,
-                    PixelPredictions& out) {
+                    const DepthCompletionParams& params, ThreadPool& pool, PixelPredictions& out) {
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
   const std::vector<AngularSample> samples = usableSamples(all_samples);
@@ -101,7 +102,7 @@ void predictIpBasic(const std::vector<AngularSample>& all_samples, const PixelAn
 
   // Distance of every pixel to the nearest projected sample (grid pixels), for the variance.
   cv::compare(work, kEmpty, scratch.mask, cv::CMP_LE);
-  cv::distanceTransform(scratch.mask, distance, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+  exactDistanceTransform(scratch.mask, distance, scratch.vertical, pool);
 
   // Kernel scale from the spacing of the projected returns.
   const double area = double(row_max - row_min + 1) * cols;
