@@ -38,10 +38,16 @@ cv::Mat rect(int size) {
 }
 
 /// Empty pixels of `image` take the value of a full-kernel dilation (`dilated`, `empty`: scratch).
+/// Only the bounding box of the empty pixels is dilated: cv::dilate reads the neighbours outside a
+/// ROI from the parent image, so the values there are those of the full-image dilation (outputs
+/// unchanged), and after the earlier fills the box is often a fraction of the image.
 void fillFromDilation(cv::Mat& image, int size, cv::Mat& dilated, cv::Mat& empty) {
-  cv::dilate(image, dilated, rect(size));
   cv::compare(image, kEmpty, empty, cv::CMP_LE);
-  dilated.copyTo(image, empty);
+  const cv::Rect box = cv::boundingRect(empty);
+  if (box.empty()) return;
+  cv::Mat roi = image(box);
+  cv::dilate(roi, dilated, rect(size));
+  dilated.copyTo(roi, empty(box));
 }
 
 /// Full-image scratch images, kept per thread across frames. Why: a fresh full-resolution float
@@ -130,22 +136,27 @@ void predictIpBasic(const std::vector<AngularSample>& all_samples, const PixelAn
   // Smoothing must not erase a fill at a hole's border: keep the unsmoothed value there.
   const double deg_per_pixel = grid.stride * 180.0 / (3.14159265358979323846 * k.fx);
   const float no_mean = std::numeric_limits<float>::quiet_NaN();
-  for (int r = 0; r < rows; ++r) {
-    float* mean = work.ptr<float>(r);     // the filled image before smoothing, then the mean
-    float* var = distance.ptr<float>(r);  // the distance, then the variance
-    const float* smooth = scratch.smooth.ptr<float>(r);
-    for (int c = 0; c < cols; ++c) {
-      const bool lost = smooth[c] <= kEmpty && mean[c] > kEmpty;
-      const float value = lost ? mean[c] : smooth[c];
-      if (!(value > kEmpty)) {
-        mean[c] = no_mean;
-        var[c] = kNoPrediction;
-        continue;
+  constexpr int kRowBlock = 16;
+  const cv::Mat& smoothed = scratch.smooth;
+  pool.parallelFor((rows + kRowBlock - 1) / kRowBlock, [&](long long block, int) {
+    const int r0 = static_cast<int>(block) * kRowBlock;
+    for (int r = r0; r < std::min(rows, r0 + kRowBlock); ++r) {
+      float* mean = work.ptr<float>(r);     // the filled image before smoothing, then the mean
+      float* var = distance.ptr<float>(r);  // the distance, then the variance
+      const float* smooth = smoothed.ptr<float>(r);
+      for (int c = 0; c < cols; ++c) {
+        const bool lost = smooth[c] <= kEmpty && mean[c] > kEmpty;
+        const float value = lost ? mean[c] : smooth[c];
+        if (!(value > kEmpty)) {
+          mean[c] = no_mean;
+          var[c] = kNoPrediction;
+          continue;
+        }
+        mean[c] = offset - value;
+        var[c] = static_cast<float>(distanceVariance(var[c] * deg_per_pixel, params));
       }
-      mean[c] = offset - value;
-      var[c] = static_cast<float>(distanceVariance(var[c] * deg_per_pixel, params));
     }
-  }
+  });
 }
 
 }  // namespace multimodal_nvs
