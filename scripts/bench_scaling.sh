@@ -15,14 +15,15 @@ mkdir -p "$OUT"
 import json, sys
 report = json.load(open(sys.argv[1]))
 print("load average: %s" % ", ".join("%.2f" % x for x in report["context"].get("load_avg", [])))
-print("| model (config) | returns in view | image (% of 1936x1216 px) | stride | grid pixels | median ms |")
-print("|---|---|---|---|---|---|")
+print("| model (config) | returns in view | image (% of 1936x1216 px) | stride | grid pixels | neighbour sets | median ms |")
+print("|---|---|---|---|---|---|---|")
 for b in report["benchmarks"]:
     if b.get("aggregate_name") != "median":
         continue
     name = b["run_name"].split("/")
     model = "radar.yaml" if name[0] == "BM_RadarDefault" else "lidar.yaml"
     pct = [p.split(":")[1] for p in name if p.startswith("image_pct:")][0]
-    print("| %s | %d | %s | %d | %.2fM | %.1f |" % (model, round(b["in_view"]), pct, round(b["stride"]),
-                                               b["grid_px"] / 1e6, b["real_time"]))
+    print("| %s | %d | %s | %d | %.2fM | %d | %.1f |" % (
+        model, round(b["in_view"]), pct, round(b["stride"]), b["grid_px"] / 1e6, round(b["sets"]),
+        b["real_time"]))
 PY
