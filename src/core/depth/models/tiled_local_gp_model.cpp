@@ -103,12 +103,20 @@ void minSquaredDistance(const float* az, const float* el, int pixels, const Tile
 int predictTiledLocalGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, double shift, ThreadPool& pool,
                         PixelPredictions& out) {
+  return predictTiledLocalGp(samples, shiftedTargets(samples, shift), angles, params,
+                             PriorMean{shift}, pool, out);
+}
+
+int predictTiledLocalGp(const std::vector<AngularSample>& samples,
+                        const std::vector<double>& targets, const PixelAngleGrid& angles,
+                        const DepthCompletionParams& params, const PriorMean& prior,
+                        ThreadPool& pool, PixelPredictions& out) {
   const LocalGpParams& gp = params.gp;
+  const double shift = prior.constant;
   const std::size_t total = static_cast<std::size_t>(angles.grid().size());
   out.mean.assign(total, static_cast<float>(shift));
   out.variance.assign(total, static_cast<float>(gp.priorVariance()));
   if (samples.empty()) return 0;
-  const std::vector<double> targets = shiftedTargets(samples, shift);
   // Bins of half the radius: queries of radius + half tile diagonal then scan ~2/3 less area
   // outside the circle than radius-sized bins would.
   const AngularBins bins(samples, 0.5 * params.radius_deg);
@@ -182,6 +190,31 @@ int predictTiledLocalGp(const std::vector<AngularSample>& samples, const PixelAn
   for (auto s : solved)
     count += s;
   return count;
+}
+
+double meanSamplesWithinRadius(const std::vector<AngularSample>& samples,
+                               const PixelAngleGrid& angles, const DepthCompletionParams& params) {
+  const ImageSize& image = angles.grid().image;
+  std::vector<AngularSample> in_view;
+  for (const AngularSample& s : usableSamples(samples)) {
+    double u = 0, v = 0;
+    if (angularToPixel(angles.intrinsics(), s.azimuth_deg, s.elevation_deg, &u, &v) && u >= 0.0 &&
+        v >= 0.0 && u < image.width && v < image.height) {
+      in_view.push_back(s);
+    }
+  }
+  if (in_view.empty()) return 0.0;
+  const double radius = params.radius_deg;
+  const AngularBins bins(in_view, radius);
+  std::size_t pairs = 0;
+  for (const AngularSample& s : in_view) {
+    bins.query(s.azimuth_deg, s.elevation_deg, radius, [&](int i) {
+      const double da = in_view[i].azimuth_deg - s.azimuth_deg;
+      const double de = in_view[i].elevation_deg - s.elevation_deg;
+      pairs += da * da + de * de <= radius * radius;
+    });
+  }
+  return double(pairs) / double(in_view.size());
 }
 
 }  // namespace multimodal_nvs
