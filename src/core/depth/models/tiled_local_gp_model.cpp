@@ -169,9 +169,8 @@ int predictTiledLocalGp(const std::vector<AngularSample>& samples,
                         ThreadPool& pool, PixelPredictions& out) {
   const LocalGpParams& gp = params.gp;
   const double shift = prior.constant;
-  const std::size_t total = static_cast<std::size_t>(angles.grid().size());
-  out.mean.assign(total, static_cast<float>(shift));
-  out.variance.assign(total, static_cast<float>(gp.priorVariance()));
+  fillPredictions(angles, static_cast<float>(shift), static_cast<float>(gp.priorVariance()), pool,
+                  out);
   if (samples.empty()) return 0;
   // Bins of half the radius: queries of radius + half tile diagonal then scan ~2/3 less area
   // outside the circle than radius-sized bins would.
