@@ -1,11 +1,15 @@
-# Layer 1: the ROS-free core (Eigen, OpenCV; nlohmann-json and yaml-cpp for the file formats): every .cpp under src/core/, one folder a topic.
+# Layer 1: the ROS-free core (Eigen, OpenCV; nlohmann-json and yaml-cpp for the file formats, CGAL
+# for Delaunay triangulation): every .cpp under src/core/, one folder a topic.
 file(GLOB_RECURSE MMNVS_CORE_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/core/*.cpp)
 add_library(multimodal_nvs_core ${MMNVS_CORE_SOURCES})
 target_include_directories(multimodal_nvs_core PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
 target_include_directories(multimodal_nvs_core SYSTEM PUBLIC
   ${EIGEN3_INCLUDE_DIRS} ${OpenCV_INCLUDE_DIRS})
 target_link_libraries(multimodal_nvs_core PUBLIC ${OpenCV_LIBS} Threads::Threads nlohmann_json::nlohmann_json)
-target_link_libraries(multimodal_nvs_core PRIVATE yaml-cpp)
+# CGAL's exact fallback of its filtered predicates calls GMP (the link would otherwise rely on
+# another library pulling libgmp in).
+find_library(MMNVS_GMP_LIBRARY gmp REQUIRED)
+target_link_libraries(multimodal_nvs_core PRIVATE yaml-cpp ${MMNVS_GMP_LIBRARY})
 set_target_properties(multimodal_nvs_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
 # Files that need flags of their own (the package default is -ffp-contract=off, for parity).
@@ -20,6 +24,11 @@ mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -ffp-contract=fast
   SOURCES ${MMNVS_FUSED_MULTIPLY_ADD_SOURCES})
 mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -fno-trapping-math
   SOURCES ${MMNVS_NO_TRAPPING_MATH_SOURCES})
+# CGAL's filtered predicates (interval arithmetic) need -frounding-math. Only the file that uses
+# CGAL gets it: linking the CGAL::CGAL target would put it on every core file (slower code, and
+# the parity-critical arithmetic compiled differently).
+set(MMNVS_CGAL_SOURCES src/core/depth/angular_triangulation.cpp)
+mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -frounding-math SOURCES ${MMNVS_CGAL_SOURCES})
 
 install(TARGETS multimodal_nvs_core
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}

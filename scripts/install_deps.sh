@@ -16,7 +16,7 @@ PACKAGES=(
   python3-rosbag python3-numpy libstd-srvs-dev python3-std-srvs python3-catkin-pkg
   # The soak monitor and demo scripts (rospy, rosgraph, diagnostic_msgs).
   python3-rospy python3-rosgraph python3-diagnostic-msgs
-  libeigen3-dev libopencv-dev libopencv-contrib-dev libyaml-cpp-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libeigen3-dev libopencv-dev libopencv-contrib-dev libyaml-cpp-dev libcgal-dev libgtest-dev libgmock-dev libbenchmark-dev
   # JSON (pose files, tool output) and the tools' command lines.
   nlohmann-json3-dev libcli11-dev
   # Hardening: libFuzzer harnesses and the sanitizer builds use Debian's clang and its runtime.

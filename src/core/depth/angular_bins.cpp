@@ -3,7 +3,7 @@
 namespace multimodal_nvs {
 
 AngularBins::AngularBins(const std::vector<AngularSample>& samples, double bin_deg)
-    : samples_(&samples), bin_(bin_deg) {
+    : bin_(bin_deg) {
   if (samples.empty()) return;
   min_az_ = max_az_ = samples[0].azimuth_deg;
   min_el_ = max_el_ = samples[0].elevation_deg;
@@ -24,6 +24,12 @@ AngularBins::AngularBins(const std::vector<AngularSample>& samples, double bin_d
   std::vector<int> fill(start_.begin(), start_.end() - 1);
   for (std::size_t i = 0; i < samples.size(); ++i)
     order_[fill[binOf(samples[i])]++] = int(i);
+  binned_az_.resize(order_.size());
+  binned_el_.resize(order_.size());
+  for (std::size_t k = 0; k < order_.size(); ++k) {
+    binned_az_[k] = samples[order_[k]].azimuth_deg;
+    binned_el_[k] = samples[order_[k]].elevation_deg;
+  }
 }
 
 std::size_t AngularBins::binOf(const AngularSample& s) const {
@@ -36,27 +42,47 @@ void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<dou
                           double start_reach) const {
   out.clear();
   if (order_.empty() || k <= 0) return;
-  const std::vector<AngularSample>& samples = *samples_;
+  const std::size_t kk = static_cast<std::size_t>(k);
   // Grow the searched square until it holds k samples whose k-th distance is inside the square
   // (then nothing outside can be nearer), or until it covers every sample.
   const double extent = std::max({max_az_ - min_az_, max_el_ - min_el_, bin_}) +
                         std::abs(az - min_az_) + std::abs(el - min_el_);
   for (double reach = std::max(bin_, start_reach);; reach *= 2.0) {
     out.clear();
-    query(az, el, reach, [&](int i) {
-      const double da = samples[i].azimuth_deg - az, de = samples[i].elevation_deg - el;
-      out.emplace_back(da * da + de * de, i);
-    });
-    const std::size_t kk = std::min<std::size_t>(k, out.size());
-    const bool covers_all = reach > extent;
-    if (kk == 0 && !covers_all) continue;
-    if (kk == 0) return;
-    std::nth_element(out.begin(), out.begin() + (kk - 1), out.end());
-    out.resize(kk);
-    if ((kk == static_cast<std::size_t>(k) && out.back().first <= reach * reach) || covers_all) {
-      std::iter_swap(out.begin(), std::min_element(out.begin(), out.end()));
-      return;
+    // query()'s bin walk on the binned angles. The k smallest (distance, index) pairs are kept
+    // sorted by insertion: k is small (8) and most candidates fail the first comparison, where
+    // collecting every candidate and partitioning them (nth_element) mispredicted its branches.
+    // Each bin row is walked only across the disc of radius `reach`: at the row's nearest
+    // elevation to the query the disc is 2 sqrt(reach^2 - dy^2) wide (a square walk visits 4/pi
+    // times the samples). Samples outside the disc are farther than reach, and the result stands
+    // only if the k-th distance is within reach, so skipping them changes nothing.
+    const int y0 = std::max(0, static_cast<int>(std::floor((el - reach - min_el_) / bin_)));
+    const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((el + reach - min_el_) / bin_)));
+    for (int y = y0; y <= y1; ++y) {
+      const double row_lo = min_el_ + y * bin_, row_hi = row_lo + bin_;
+      const double dy = el < row_lo ? row_lo - el : (el > row_hi ? el - row_hi : 0.0);
+      const double half = std::sqrt(std::max(0.0, reach * reach - dy * dy));
+      const int x0 = std::max(0, static_cast<int>(std::floor((az - half - min_az_) / bin_)));
+      const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((az + half - min_az_) / bin_)));
+      if (x0 > x1) continue;
+      const std::size_t row = std::size_t(y) * nx_;
+      for (int b = start_[row + x0]; b < start_[row + x1 + 1]; ++b) {
+        const double da = binned_az_[b] - az, de = binned_el_[b] - el;
+        const std::pair<double, int> candidate(da * da + de * de, order_[b]);
+        if (out.size() == kk) {
+          if (!(candidate < out.back())) continue;
+          out.back() = candidate;
+        } else {
+          out.push_back(candidate);
+        }
+        for (std::size_t i = out.size() - 1; i > 0 && out[i] < out[i - 1]; --i)
+          std::swap(out[i], out[i - 1]);
+      }
     }
+    const bool covers_all = reach > extent;
+    if (out.empty() && !covers_all) continue;
+    if (out.empty()) return;
+    if ((out.size() == kk && out.back().first <= reach * reach) || covers_all) return;
   }
 }
 

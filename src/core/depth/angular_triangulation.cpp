@@ -1,11 +1,15 @@
-// Delaunay triangulation (cv::Subdiv2D) of samples in (azimuth, elevation). Each triangle gets a
+// Delaunay triangulation (CGAL) of samples in (azimuth, elevation). Each triangle gets a
 // conservative pixel box derived from the inverse pixel-angle mapping; the inside test of the
 // rasteriser uses the pixel's own float32 angles, so interpolation is exact in the angular domain.
 #include "multimodal_nvs/core/depth/angular_triangulation.hpp"
 
+#include <CGAL/Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
 #include <cmath>
 #include <limits>
-#include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
@@ -13,6 +17,15 @@
 
 namespace multimodal_nvs {
 namespace {
+
+// Exact predicates: the orientation and in-circle tests stay right on the near-collinear points
+// of a LiDAR ring, where float arithmetic makes incremental Delaunay codes loop or fold.
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using VertexBase = CGAL::Triangulation_vertex_base_with_info_2<int, Kernel>;  // the sample index
+using Delaunay = CGAL::Delaunay_triangulation_2<
+    Kernel,
+    CGAL::Triangulation_data_structure_2<VertexBase, CGAL::Triangulation_face_base_2<Kernel>>>;
+using DelaunayPoint = Kernel::Point_2;
 
 /// Pixel box (grid indices, inclusive, one pixel of margin) that contains the triangle's angular
 /// bounding box. Returns false when it misses the grid.
@@ -91,56 +104,53 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
   }
   if (samples.size() < 3) return {};
 
-  // Insertion in elevation-then-azimuth order keeps Subdiv2D's point location walks short.
-  std::vector<int> order(samples.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = int(i);
-  std::sort(order.begin(), order.end(), [&](int a, int b) {
-    if (samples[a].elevation_deg != samples[b].elevation_deg) {
-      return samples[a].elevation_deg < samples[b].elevation_deg;
-    }
-    return samples[a].azimuth_deg < samples[b].azimuth_deg;
+  // One vertex per direction: a repeated direction keeps its nearest return (sorted by direction,
+  // then depth, the first of each run).
+  std::sort(samples.begin(), samples.end(), [](const AngularSample& a, const AngularSample& b) {
+    if (a.elevation_deg != b.elevation_deg) return a.elevation_deg < b.elevation_deg;
+    if (a.azimuth_deg != b.azimuth_deg) return a.azimuth_deg < b.azimuth_deg;
+    return a.depth < b.depth;
   });
-  const AngularBox box = boundingBox(samples);
-  const int x = static_cast<int>(std::floor(box.az_min)) - 2;
-  const int y = static_cast<int>(std::floor(box.el_min)) - 2;
-  cv::Subdiv2D subdiv(cv::Rect(x, y, static_cast<int>(std::ceil(box.az_max)) + 2 - x,
-                               static_cast<int>(std::ceil(box.el_max)) + 2 - y));
-  // Subdiv2D vertex id -> depth; a repeated direction returns the existing vertex: keep the
-  // nearest return there.
-  std::vector<double> vertex_depth;
-  for (int i : order) {
-    const int id = subdiv.insert(cv::Point2f(samples[i].azimuth_deg, samples[i].elevation_deg));
-    if (id >= static_cast<int>(vertex_depth.size())) {
-      vertex_depth.resize(id + 1, std::numeric_limits<double>::quiet_NaN());
+  std::vector<std::pair<DelaunayPoint, int>> vertices;
+  vertices.reserve(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (i > 0 && samples[i].azimuth_deg == samples[i - 1].azimuth_deg &&
+        samples[i].elevation_deg == samples[i - 1].elevation_deg) {
+      continue;
     }
-    const double z = samples[i].depth;
-    if (!(vertex_depth[id] <= z)) vertex_depth[id] = z;
+    vertices.emplace_back(DelaunayPoint(samples[i].azimuth_deg, samples[i].elevation_deg), int(i));
   }
+  // Three far virtual vertices, placed as cv::Subdiv2D places its outer triangle around the
+  // samples' box (2 deg margin): triangles that touch them are dropped, and with them the long
+  // slivers along the convex hull whose circumcircle reaches them, which no surface spans (the
+  // hull's upper edge is the LiDAR's top ring). The same triangulation as before the move to CGAL.
+  const AngularBox box = boundingBox(samples);
+  const float x = std::floor(box.az_min) - 2.0f, y = std::floor(box.el_min) - 2.0f;
+  const float big =
+      3.0f * std::max(std::ceil(box.az_max) + 2.0f - x, std::ceil(box.el_max) + 2.0f - y);
+  constexpr int kVirtual = -1;
+  vertices.emplace_back(DelaunayPoint(x + big, y), kVirtual);
+  vertices.emplace_back(DelaunayPoint(x, y + big), kVirtual);
+  vertices.emplace_back(DelaunayPoint(x - big, y - big), kVirtual);
+  // CGAL's range insertion sorts the points along a Hilbert curve first (spatial_sort), so every
+  // point location walk is short; cv::Subdiv2D, inserting one by one, was the stage's main cost.
+  const Delaunay delaunay(vertices.begin(), vertices.end());
 
-  // Triangles whose three vertices are real samples (Subdiv2D's virtual outer vertices have ids < 4
-  // and deleted edges report vertex 0; both have no depth).
-  std::vector<int> leading;
-  subdiv.getLeadingEdgeList(leading);
   std::vector<AngularTriangle> triangles;
-  triangles.reserve(leading.size());
+  triangles.reserve(2 * vertices.size());
   const PinholeIntrinsics& k = angles.intrinsics();
-  for (int edge : leading) {
-    AngularTriangle t;
-    bool ok = true;
-    int e = edge;
-    for (int j = 0; j < 3 && ok; ++j) {
-      cv::Point2f p;
-      const int id = subdiv.edgeOrg(e, &p);
-      ok = id >= 4 && id < static_cast<int>(vertex_depth.size()) && std::isfinite(vertex_depth[id]);
-      if (ok) {
-        t.az[j] = p.x;
-        t.el[j] = p.y;
-        t.z[j] = vertex_depth[id];
-      }
-      e = subdiv.getEdge(e, cv::Subdiv2D::NEXT_AROUND_LEFT);
+  for (auto face = delaunay.finite_faces_begin(); face != delaunay.finite_faces_end(); ++face) {
+    if (face->vertex(0)->info() == kVirtual || face->vertex(1)->info() == kVirtual ||
+        face->vertex(2)->info() == kVirtual) {
+      continue;
     }
-    if (!ok || e != edge) continue;  // not a closed triangle
+    AngularTriangle t;
+    for (int j = 0; j < 3; ++j) {
+      const AngularSample& s = samples[face->vertex(j)->info()];
+      t.az[j] = s.azimuth_deg;
+      t.el[j] = s.elevation_deg;
+      t.z[j] = s.depth;
+    }
     t.det = (t.az[1] - t.az[0]) * (t.el[2] - t.el[0]) - (t.az[2] - t.az[0]) * (t.el[1] - t.el[0]);
     if (!(std::abs(t.det) > 1e-12)) continue;  // degenerate (collinear) triangle
     const double taz0 = std::min({t.az[0], t.az[1], t.az[2]});

@@ -25,26 +25,11 @@ Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg) {
 
 std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
                                     double far_depth) {
-  // Pixel rays straight from the intrinsics: the descent up . d is affine in (u, v).
-  const PinholeIntrinsics& k = angles.intrinsics();
   const StrideGrid& grid = angles.grid();
   std::vector<float> prior(static_cast<std::size_t>(grid.size()));
-  if (angles.distorted()) {  // the undistorted rays, from the grid's table
-    for (int r = 0; r < grid.rows(); ++r) {
-      for (int c = 0; c < grid.cols(); ++c) {
-        const Eigen::Vector2d ray = angles.normalisedRay(r, c);
-        prior[std::size_t(r) * grid.cols() + c] =
-            static_cast<float>(std::min(plane.depthAlong(ray.x(), ray.y()), far_depth));
-      }
-    }
-    return prior;
-  }
   for (int r = 0; r < grid.rows(); ++r) {
-    const double y = (r * grid.stride - k.cy) / k.fy;
     for (int c = 0; c < grid.cols(); ++c) {
-      const double x = (c * grid.stride - k.cx) / k.fx;
-      prior[std::size_t(r) * grid.cols() + c] =
-          static_cast<float>(std::min(plane.depthAlong(x, y), far_depth));
+      prior[std::size_t(r) * grid.cols() + c] = groundPriorDepthAt(angles, plane, r, c, far_depth);
     }
   }
   return prior;

@@ -33,8 +33,8 @@ class AngularBins {
     }
   }
 
-  /// The (at most) k samples nearest to (az, el), as (squared distance, index), the nearest first
-  /// (the others in no particular order). `out` is cleared first. `start_reach` (degrees) is where
+  /// The (at most) k samples nearest to (az, el), as (squared distance, index), nearest first
+  /// (ties by index). `out` is cleared first. `start_reach` (degrees) is where
   /// the search square starts: a neighbouring query's k-th distance makes one round enough.
   void nearest(double az, double el, int k, std::vector<std::pair<double, int>>& out,
                double start_reach = 0.0) const;
@@ -42,12 +42,14 @@ class AngularBins {
  private:
   std::size_t binOf(const AngularSample& s) const;
 
-  const std::vector<AngularSample>* samples_;
   double bin_;
   double min_az_ = 0, max_az_ = 0, min_el_ = 0, max_el_ = 0;
   int nx_ = 0, ny_ = 0;
   std::vector<int> start_;
   std::vector<int> order_;
+  // The samples' angles in bin order (order_): nearest() reads them sequentially instead of
+  // gathering AngularSample records from all over the scan (a 360-degree LiDAR sweep is megabytes).
+  std::vector<float> binned_az_, binned_el_;
 };
 
 }  // namespace multimodal_nvs

@@ -19,9 +19,10 @@ struct AngularTriangle {
   int row0, row1, col0, col1;
 };
 
-/// Delaunay triangles (cv::Subdiv2D) of the usable samples within 10 % of the image's angular
-/// extent (at least 2 deg) around it, so 360-degree LiDAR does not pay for points far outside the
-/// view. Samples with identical angles keep the nearest depth. Degenerate triangles and those
+/// Delaunay triangles (CGAL, exact predicates) of the usable samples within 10 % of the image's
+/// angular extent (at least 2 deg) around it, so 360-degree LiDAR does not pay for points far
+/// outside the view. Samples with identical angles keep the nearest depth. Slivers along the convex
+/// hull (those whose circumcircle reaches a far virtual vertex), degenerate triangles and those
 /// missing the grid are dropped. Fewer than three samples: no triangle.
 std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>& samples,
                                                 const PixelAngleGrid& angles);

@@ -1,6 +1,7 @@
 #pragma once
 // The priors of ground_gp: the ground plane and the nearest surface seen along each pixel ray.
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -35,6 +36,23 @@ Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg);
 /// (also above the horizon, where there is no ground).
 std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
                                     double far_depth);
+/// groundPriorDepth of one grid pixel (row r, column c), the same arithmetic: for passes that need
+/// the ground at some pixels only. Inline: such passes call it for a million pixels.
+inline float groundPriorDepthAt(const PixelAngleGrid& angles, const GroundPlane& plane, int r,
+                                int c, double far_depth) {
+  double x = 0.0, y = 0.0;
+  if (angles.distorted()) {  // the undistorted rays, from the grid's table
+    const Eigen::Vector2d ray = angles.normalisedRay(r, c);
+    x = ray.x();
+    y = ray.y();
+  } else {  // pixel rays straight from the intrinsics
+    const PinholeIntrinsics& k = angles.intrinsics();
+    const int stride = angles.grid().stride;
+    x = (c * stride - k.cx) / k.fx;
+    y = (r * stride - k.cy) / k.fy;
+  }
+  return static_cast<float>(std::min(plane.depthAlong(x, y), far_depth));
+}
 
 /// The nearest-surface depth of every grid pixel: the `rank`-th smallest depth (1 = smallest)
 /// among the `k` samples angularly nearest to the pixel, and the angular distance (degrees) to

@@ -193,8 +193,13 @@ namespace {
 
 // A gap in the triangulation, as in the sparse mode: lattice step of the nearest-sample fallback.
 constexpr int kFallbackStepPx = 16;
-// Bin side of the k-nearest search: about the spacing of 1-in-4 LiDAR (affects only speed).
-constexpr double kDenseBinDeg = 0.5;
+// Bin side of the k-nearest search (affects only speed): a full LiDAR scan's returns are ~0.1-0.4
+// deg apart, so a search box holds few bins' worth of samples (0.5 deg: 2x slower on VoD 00549).
+// One int per bin: a 360 x 40 deg sweep takes 640k bins.
+constexpr double kDenseBinDeg = 0.15;
+// Margin of the k-nearest search over the previous pixel's k-th distance: about two pixel steps of
+// a VoD-like camera (0.038 deg per pixel); larger steps cost a second round, not a wrong answer.
+constexpr double kVoteReachStepDeg = 0.08;
 // A sample at the pixel's own direction must not take infinite weight in the edge vote:
 // (0.01 deg)^2, far below any sample spacing.
 constexpr double kVoteDistanceFloorDeg2 = 1e-4;
@@ -336,11 +341,14 @@ bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAn
 
 void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                           const DepthCompletionParams& params, const GroundPlane& plane,
-                          double median_depth, ThreadPool& pool, PixelPredictions& out) {
+                          double median_depth, ThreadPool& pool, PixelPredictions& out,
+                          ModelScratch& scratch) {
   const GroundPriorParams& g = params.ground;
   const std::size_t n = static_cast<std::size_t>(angles.grid().size());
-  setNoPrediction(angles.grid(), out);
-
+  // No fill: every pixel is written below, inside a triangle by the rasteriser, else by the gap
+  // pass.
+  out.mean.resize(n);
+  out.variance.resize(n);
   const std::vector<AngularTriangle> triangles = triangulateSamples(samples, angles);
   std::vector<DenseVertexInfo> info(triangles.size());
   pool.parallelFor(
@@ -365,8 +373,10 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   auto same_surface = [ratio](const bool* ground, const double* z, int a, int b) {
     return (ground[a] && ground[b]) || std::max(z[a], z[b]) <= ratio * std::min(z[a], z[b]);
   };
-  std::vector<std::uint8_t> filled;
-  std::vector<float> longest(n, 0.0f);
+  std::vector<std::uint8_t>& filled = scratch.filled;
+  // Read only where filled, and written wherever the rasteriser fills: no initialisation.
+  std::vector<float>& longest = scratch.longest_edge;
+  longest.resize(n);
   rasterizeTriangles(
       triangles, angles, pool, filled,
       [&](const AngularTriangle& t, double l0, double l1, double l2, std::size_t pixel, float az,
@@ -393,7 +403,13 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
         }
         if (edge) {
           thread_local std::vector<std::pair<double, int>> nearest;
-          bins.nearest(az, el, g.surface_k, nearest);
+          // Edge pixels come in runs along a row: the previous query's k-th distance plus the
+          // step to this pixel bounds this one's (triangle inequality), so one round of the bin
+          // walk mostly suffices; when not (a new row, a far jump), the search widens itself.
+          thread_local double previous_kth_deg = 0.0;
+          bins.nearest(az, el, g.surface_k, nearest, previous_kth_deg);
+          if (!nearest.empty())
+            previous_kth_deg = std::sqrt(nearest.back().first) + kVoteReachStepDeg;
           best = 0.0;
           for (int i = 0; i < 3; ++i) {
             double support = 0.0;
@@ -438,18 +454,33 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   if (!gaps) return;
   const double far = g.far_depth > 0.0 ? g.far_depth : std::max(median_depth, 1.0);
   const int step = std::max(1, kFallbackStepPx / angles.grid().stride);
-  const NearestSurface nearest = nearestSurfaceDepth(samples, angles, 1, 1, step, pool);
-  const std::vector<float> ground = groundPriorDepth(angles, plane, INFINITY);
-  for (std::size_t p = 0; p < n; ++p) {
-    if (filled[p]) continue;
-    float mean = std::min(ground[p], nearest.depth[p]);
-    if (!std::isfinite(mean)) mean = static_cast<float>(far);
-    mean = std::max(mean, 0.1f);
-    const float sigma = mean * static_cast<float>(g.relative_sigma + g.relative_sigma_per_deg *
-                                                                         nearest.distance_deg[p]);
-    out.mean[p] = mean;
-    out.variance[p] = sigma * sigma;
-  }
+  // The nearest return's lattice, interpolated and combined with the ground at the gap pixels
+  // only: more than half of a LiDAR image lies above the highest ring, but the rest is filled.
+  const NearestSurfaceRows nearest = nearestSurfaceRows(samples, angles, 1, 1, step, pool);
+  const int cols = angles.grid().cols();
+  pool.parallelFor(
+      angles.grid().rows(),
+      [&](long long r, int) {
+        const NearestSurfaceRows::RowWeights w = nearest.row(static_cast<int>(r));
+        for (int c = 0; c < cols; ++c) {
+          const std::size_t p = std::size_t(r) * cols + c;
+          if (filled[p]) continue;
+          const float nearest_depth =
+              nearest.has_depth ? NearestSurfaceRows::lerp(w.depth_lo[c], w.depth_hi[c], w.t)
+                                : INFINITY;
+          const float distance_deg =
+              NearestSurfaceRows::lerp(w.distance_lo[c], w.distance_hi[c], w.t);
+          float mean =
+              std::min(groundPriorDepthAt(angles, plane, int(r), c, INFINITY), nearest_depth);
+          if (!std::isfinite(mean)) mean = static_cast<float>(far);
+          mean = std::max(mean, 0.1f);
+          const float sigma =
+              mean * static_cast<float>(g.relative_sigma + g.relative_sigma_per_deg * distance_deg);
+          out.mean[p] = mean;
+          out.variance[p] = sigma * sigma;
+        }
+      },
+      16);
   extendColumnsUpward(usable, angles, plane, filled, longest, g, pool, out);
 }
 

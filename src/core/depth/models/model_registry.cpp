@@ -53,7 +53,8 @@ bool isBaseline(DepthModel model) {
 
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
-                     PixelPredictions& out, const cv::Mat& image, GroundChoice* ground) {
+                     PixelPredictions& out, const cv::Mat& image, GroundChoice* ground,
+                     ModelScratch* scratch) {
   if (const BaselineModel baseline = baselineModel(params.model)) {
     baseline(samples, angles, params, pool, out);
     return 0;
@@ -71,8 +72,9 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
   }
   if (params.model == DepthModel::kGroundGp && choice.dense) {
     // Dense input needs no neighbour sets: the interpolating prior is the prediction.
+    ModelScratch local;
     predictGroundGpDense(samples, angles, params, choice.plane, computeShift(DepthShift{}, samples),
-                         pool, out);
+                         pool, out, scratch != nullptr ? *scratch : local);
     return 0;
   }
   if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {

@@ -31,10 +31,11 @@ bool groundGpUsesTiles(const std::vector<AngularSample>& samples, const PixelAng
 /// params.shift). `image`: the camera image (used by image_guided only; may be empty for the
 /// others). Returns the number of neighbour sets (or tiles) the model solved, 0 for models
 /// without any.
-/// For ground_gp, `ground` (when given) receives the plane and mode it chose.
+/// For ground_gp, `ground` (when given) receives the plane and mode it chose. `scratch` (when
+/// given) holds work buffers between calls.
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
                      PixelPredictions& out, const cv::Mat& image = cv::Mat(),
-                     GroundChoice* ground = nullptr);
+                     GroundChoice* ground = nullptr, ModelScratch* scratch = nullptr);
 
 }  // namespace multimodal_nvs
