@@ -119,7 +119,7 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
                                           image, &ground, &model_scratch_);
   if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
     stats.ground_source = toString(ground.source);
-    stats.ground_mode = ground.dense ? "dense" : "sparse";
+    stats.ground_mode = ground.dense ? "dense" : ground.tiled_residual ? "sparse_tiled" : "sparse";
     stats.ground_inlier_fraction = ground.inlier_fraction;
   }
 

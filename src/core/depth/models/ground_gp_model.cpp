@@ -23,6 +23,7 @@
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
+#include "multimodal_nvs/core/depth/models/tiled_local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 
 namespace multimodal_nvs {
@@ -39,7 +40,7 @@ inline float priorDepth(float ground, float nearest, float far) {
 }  // namespace
 
 void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                     const NeighbourSets& sets, const DepthCompletionParams& params,
+                     const NeighbourSets* sets, const DepthCompletionParams& params,
                      const GroundPlane& plane, double median_depth, ThreadPool& pool,
                      PixelPredictions& out) {
   const GroundPriorParams& g = params.ground;
@@ -107,7 +108,11 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
     residual_params.gp.amplitude = g.residual_amplitude;
     // The GP around a zero mean: out.mean is the residual's posterior mean (0 without a set); the
     // prior is added below.
-    predictLocalGp(samples, residual, angles, sets, residual_params, PriorMean{0.0}, pool, out);
+    if (sets != nullptr) {
+      predictLocalGp(samples, residual, angles, *sets, residual_params, PriorMean{0.0}, pool, out);
+    } else {
+      predictTiledLocalGp(samples, residual, angles, residual_params, PriorMean{0.0}, pool, out);
+    }
   } else {
     fillPredictions(angles, 0.0f, 0.0f, pool, out);
   }

@@ -41,6 +41,12 @@ BaselineModel baselineModel(DepthModel model) {
 
 }  // namespace
 
+bool groundGpUsesTiles(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                       const DepthCompletionParams& params) {
+  if (params.max_neighbors > 0) return true;
+  return meanSamplesWithinRadius(samples, angles, params) > kLargeNeighbourSetMean;
+}
+
 bool isBaseline(DepthModel model) {
   return baselineModel(model) != nullptr;
 }
@@ -74,13 +80,22 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
   if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
     return predictTiledLocalGp(samples, angles, params, shift, pool, out);
   }
+  if (params.model == DepthModel::kGroundGp && groundGpUsesTiles(samples, angles, params)) {
+    // No neighbour sets: building them alone takes longer than the whole approximation.
+    if (ground) ground->tiled_residual = true;
+    DepthCompletionParams tiled = params;
+    if (tiled.max_neighbors == 0) tiled.max_neighbors = kAutoMaxNeighbors;
+    const double median = computeShift(DepthShift{}, samples);
+    predictGroundGp(samples, angles, nullptr, tiled, choice.plane, median, pool, out);
+    return 0;
+  }
   const NeighbourSets sets =
       NeighbourSets::build(samples, angles, static_cast<float>(params.radius_deg), pool);
   if (params.model == DepthModel::kLocalGpMle) {
     predictLocalGp(samples, angles, sets, params, shift, pool, out);
   } else if (params.model == DepthModel::kGroundGp) {
     const double median = computeShift(DepthShift{}, samples);
-    predictGroundGp(samples, angles, sets, params, choice.plane, median, pool, out);
+    predictGroundGp(samples, angles, &sets, params, choice.plane, median, pool, out);
   } else {
     predictKernel(samples, angles, sets, params, shift, pool, out);
   }

@@ -12,8 +12,10 @@ namespace multimodal_nvs {
 
 struct GroundPlane;
 /// `ground_gp`: local GP on the residual around the ground-plane prior (ground_gp_model.cpp).
+/// `sets`: the exact residual GP on these neighbour sets; nullptr: the tile approximation
+/// (predictTiledLocalGp with params.max_neighbors samples per tile), for large neighbour sets.
 void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                     const NeighbourSets& sets, const DepthCompletionParams& params,
+                     const NeighbourSets* sets, const DepthCompletionParams& params,
                      const GroundPlane& plane, double median_depth, ThreadPool& pool,
                      PixelPredictions& out);
 
