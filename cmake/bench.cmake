@@ -8,9 +8,10 @@ if(benchmark_FOUND)
   foreach(bench_source ${MMNVS_BENCH_SOURCES})
     get_filename_component(bench ${bench_source} NAME_WE)
     add_executable(${bench} ${bench_source})
-    target_link_libraries(${bench} multimodal_nvs_core benchmark::benchmark)
+    target_link_libraries(${bench} multimodal_nvs_core benchmark::benchmark yaml-cpp)
     target_compile_definitions(${bench} PRIVATE
-      MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}")
+      MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}"
+      MMNVS_SOURCE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
   endforeach()
 endif()
 

@@ -139,15 +139,16 @@ std::vector<Eigen::Vector3f> subsample(const std::vector<Eigen::Vector3f>& point
   return out;
 }
 
-mm::ImageSize imageSizeOf(const Options& o, const mm::io::VodFrame& frame) {
-  if (!o.image_size.empty()) return {o.image_size[0], o.image_size[1]};
+/// The frame's camera image, decoded once: its size is the output size (without --image-size) and
+/// image_guided follows it.
+cv::Mat readFrameImage(const mm::io::VodFrame& frame) {
   const std::string path = frame.image();
   if (!mm::io::fileExists(path)) {
     throw mm::InputError(path + ": image not found (give --image-size H W)");
   }
-  const cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
+  cv::Mat image = cv::imread(path, cv::IMREAD_UNCHANGED);
   if (image.empty()) throw mm::InputError(path + ": cannot read or decode image");
-  return {image.rows, image.cols};
+  return image;
 }
 
 std::string denseTruthPath(const std::string& root, const mm::io::VodFrame& frame) {
@@ -290,8 +291,13 @@ int run(int argc, char** argv) {
     const mm::io::VodFrame frame{root, number};
     FrameResult res;
     res.frame = number;
+    // image_guided follows the camera image; the other models read it only for its size.
+    const cv::Mat image = o.image_size.empty() || params.model == mm::DepthModel::kImageGuided
+                              ? readFrameImage(frame)
+                              : cv::Mat();
     mm::StrideGrid grid;
-    grid.image = imageSizeOf(o, frame);
+    grid.image = o.image_size.empty() ? mm::ImageSize{image.rows, image.cols}
+                                      : mm::ImageSize{o.image_size[0], o.image_size[1]};
     grid.stride = stride;
     const std::size_t n = static_cast<std::size_t>(grid.size());
 
@@ -385,10 +391,6 @@ int run(int argc, char** argv) {
       mm::DepthCompletionParams frame_params = params;
       mm::cli::applyGroundPose(o.depth, frame.pose(),
                                frame_params);  // ground_gp: this frame's pose
-      // image_guided follows the camera image; the other models do not read it.
-      const cv::Mat image = params.model == mm::DepthModel::kImageGuided
-                                ? cv::imread(frame.image(), cv::IMREAD_UNCHANGED)
-                                : cv::Mat();
       for (int i = 0; i < repeat; ++i) {
         completer.complete(points_camera, intrinsics, grid, frame_params, map, image);
         times.push_back(map.stats.compute_ms);

@@ -97,3 +97,38 @@ TEST(CompleteDepthTool, AScanWithNoUsablePointYieldsThePriorWithAWarning) {
   for (float v : var)
     ASSERT_EQ(v, 625.0f);
 }
+
+// Many frames in one process run as a pipeline (the next frame read while one is completed, the
+// previous one written meanwhile): the outputs equal one-frame runs, and a bad frame in the middle
+// ends the run with its file named after the frames before it are written, none after it.
+TEST(CompleteDepthTool, FramesPipelineEqualsOneFrameRunsAndStopsAtABadFrame) {
+  const std::string scene = dir() + "cd_frames_scene";
+  const auto made = multimodal_nvs::test::runTool(
+      "make_synthetic_scene", "--output " + scene + " --scale 0.1 --num-frames 4 --quiet");
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  const std::string model = " --model ground_gp --retain-percent 80";
+  const auto all = runTool("--vod-root " + scene + " --frames 0-3 --quiet --output " + dir() +
+                           "cd_frames_all" + model);
+  ASSERT_EQ(all.exit_code, 0) << all.output;
+  for (const std::string id : {"00000", "00003"}) {
+    const auto one = runTool("--vod-root " + scene + " --frame " + id + " --output " + dir() +
+                             "cd_frames_" + id + model);
+    ASSERT_EQ(one.exit_code, 0) << one.output;
+    for (const char* array : {"_depth.npy", "_variance.npy", "_valid.npy"}) {
+      const auto a = io::readNpy(dir() + "cd_frames_all/" + id + array);
+      const auto b = io::readNpy(dir() + "cd_frames_" + id + array);
+      EXPECT_EQ(a.shape, b.shape);
+      EXPECT_EQ(a.data, b.data) << id << array;
+    }
+  }
+  // Frame 2's scan truncated to a size that is no whole number of records.
+  const std::string bad = scene + "/radar/training/velodyne/00002.bin";
+  std::ofstream(bad, std::ios::binary | std::ios::trunc) << std::string(30, '\0');
+  const auto stopped = runTool("--vod-root " + scene + " --frames 0-3 --quiet --output " + dir() +
+                               "cd_frames_bad" + model);
+  EXPECT_EQ(stopped.exit_code, 1) << stopped.output;
+  EXPECT_NE(stopped.output.find("00002.bin"), std::string::npos) << stopped.output;
+  EXPECT_TRUE(std::ifstream(dir() + "cd_frames_bad/00001_depth.npy").good());
+  EXPECT_FALSE(std::ifstream(dir() + "cd_frames_bad/00002_depth.npy").good());
+  EXPECT_FALSE(std::ifstream(dir() + "cd_frames_bad/00003_depth.npy").good());
+}

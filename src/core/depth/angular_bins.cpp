@@ -52,11 +52,19 @@ void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<dou
     // query()'s bin walk on the binned angles. The k smallest (distance, index) pairs are kept
     // sorted by insertion: k is small (8) and most candidates fail the first comparison, where
     // collecting every candidate and partitioning them (nth_element) mispredicted its branches.
-    const int x0 = std::max(0, static_cast<int>(std::floor((az - reach - min_az_) / bin_)));
-    const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((az + reach - min_az_) / bin_)));
+    // Each bin row is walked only across the disc of radius `reach`: at the row's nearest
+    // elevation to the query the disc is 2 sqrt(reach^2 - dy^2) wide (a square walk visits 4/pi
+    // times the samples). Samples outside the disc are farther than reach, and the result stands
+    // only if the k-th distance is within reach, so skipping them changes nothing.
     const int y0 = std::max(0, static_cast<int>(std::floor((el - reach - min_el_) / bin_)));
     const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((el + reach - min_el_) / bin_)));
-    for (int y = y0; y <= y1 && x0 <= x1; ++y) {
+    for (int y = y0; y <= y1; ++y) {
+      const double row_lo = min_el_ + y * bin_, row_hi = row_lo + bin_;
+      const double dy = el < row_lo ? row_lo - el : (el > row_hi ? el - row_hi : 0.0);
+      const double half = std::sqrt(std::max(0.0, reach * reach - dy * dy));
+      const int x0 = std::max(0, static_cast<int>(std::floor((az - half - min_az_) / bin_)));
+      const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((az + half - min_az_) / bin_)));
+      if (x0 > x1) continue;
       const std::size_t row = std::size_t(y) * nx_;
       for (int b = start_[row + x0]; b < start_[row + x1 + 1]; ++b) {
         const double da = binned_az_[b] - az, de = binned_el_[b] - el;

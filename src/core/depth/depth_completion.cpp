@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "multimodal_nvs/core/common/buffer_reuse.hpp"
 #include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
@@ -103,16 +104,22 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   stats.shift = computeShift(params.shift, samples);
 
   const PixelAngleGrid& angles = pixelAngles(intrinsics, grid);
+  // One huge frame must not pin its work buffers for the rest of the run.
+  const std::size_t pixels = static_cast<std::size_t>(grid.size());
+  if (capacityFarExceeds(model_scratch_.longest_edge.capacity(), pixels) ||
+      capacityFarExceeds(model_scratch_.filled.capacity(), pixels)) {
+    model_scratch_ = ModelScratch{};
+  }
   // The models write into the output's own buffers (capacity reused across calls).
   PixelPredictions prediction;
   prediction.mean.swap(out.depth);
   prediction.variance.swap(out.variance);
   GroundChoice ground;
-  stats.neighbour_sets =
-      predictWithModel(samples, angles, params, stats.shift, *pool_, prediction, image, &ground);
+  stats.neighbour_sets = predictWithModel(samples, angles, params, stats.shift, *pool_, prediction,
+                                          image, &ground, &model_scratch_);
   if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
     stats.ground_source = toString(ground.source);
-    stats.ground_mode = ground.dense ? "dense" : "sparse";
+    stats.ground_mode = ground.dense ? "dense" : ground.tiled_residual ? "sparse_tiled" : "sparse";
     stats.ground_inlier_fraction = ground.inlier_fraction;
   }
 

@@ -52,7 +52,8 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
       ->check(atLeast(0))
       ->group(kModel);
   app.add_option("--max-neighbors", p.max_neighbors,
-                 "0: exact; K>0: tile approximation with at most K samples")
+                 "0: exact (ground_gp: exact unless neighbour sets are large); K>0: tile "
+                 "approximation with at most K samples")
       ->check(atLeast(0))
       ->group(kModel);
   app.add_option("--approx-tile", p.approx_tile, "tile side (grid pixels) of the approximation")

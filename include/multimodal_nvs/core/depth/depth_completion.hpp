@@ -10,6 +10,7 @@
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 
 namespace multimodal_nvs {
@@ -69,6 +70,7 @@ class DepthCompleter {
   std::unique_ptr<ThreadPool> pool_;
   std::unique_ptr<PixelAngleGrid> angles_;
   std::vector<std::uint8_t> candidate_;  // scratch: valid before retention
+  ModelScratch model_scratch_;           // the models' full-image work buffers
 };
 
 }  // namespace multimodal_nvs

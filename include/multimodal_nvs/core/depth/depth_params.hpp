@@ -116,7 +116,8 @@ struct DepthCompletionParams {
   double var_threshold = std::numeric_limits<double>::infinity();
   /// 0: exact (every sample within the radius). K > 0: the documented tile approximation for dense
   /// input: each tile of approx_tile x approx_tile grid pixels shares one set of at most K samples
-  /// (the K nearest to the tile centre) and one length scale.
+  /// (the K nearest to the tile centre) and one length scale. ground_gp with 0 uses it with K = 8
+  /// by itself when the neighbour sets are large (groundGpUsesTiles).
   int max_neighbors = 0;
   int approx_tile = 16;
   int threads = 0;  ///< 0: hardware concurrency

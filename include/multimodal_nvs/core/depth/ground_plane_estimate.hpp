@@ -39,6 +39,9 @@ struct GroundChoice {
   bool dense = false;            ///< the dense (interpolating) mode, else the sparse (radar) one
   double inlier_fraction = 0.0;  ///< of the RANSAC fit (0 when not fitted)
   bool plane_fitted = false;     ///< a fit was attempted and gave a plausible plane
+  /// Sparse mode: the residual GP ran the tile approximation (large neighbour sets), not the exact
+  /// one (set by predictWithModel).
+  bool tiled_residual = false;
 };
 
 /// The plane given by the parameters (camera_height and up, which a pose or tf may have set).

@@ -23,6 +23,7 @@
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
+#include "multimodal_nvs/core/depth/models/tiled_local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 
 namespace multimodal_nvs {
@@ -39,7 +40,7 @@ inline float priorDepth(float ground, float nearest, float far) {
 }  // namespace
 
 void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                     const NeighbourSets& sets, const DepthCompletionParams& params,
+                     const NeighbourSets* sets, const DepthCompletionParams& params,
                      const GroundPlane& plane, double median_depth, ThreadPool& pool,
                      PixelPredictions& out) {
   const GroundPriorParams& g = params.ground;
@@ -107,7 +108,11 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
     residual_params.gp.amplitude = g.residual_amplitude;
     // The GP around a zero mean: out.mean is the residual's posterior mean (0 without a set); the
     // prior is added below.
-    predictLocalGp(samples, residual, angles, sets, residual_params, PriorMean{0.0}, pool, out);
+    if (sets != nullptr) {
+      predictLocalGp(samples, residual, angles, *sets, residual_params, PriorMean{0.0}, pool, out);
+    } else {
+      predictTiledLocalGp(samples, residual, angles, residual_params, PriorMean{0.0}, pool, out);
+    }
   } else {
     fillPredictions(angles, 0.0f, 0.0f, pool, out);
   }
@@ -192,6 +197,9 @@ constexpr int kFallbackStepPx = 16;
 // deg apart, so a search box holds few bins' worth of samples (0.5 deg: 2x slower on VoD 00549).
 // One int per bin: a 360 x 40 deg sweep takes 640k bins.
 constexpr double kDenseBinDeg = 0.15;
+// Margin of the k-nearest search over the previous pixel's k-th distance: about two pixel steps of
+// a VoD-like camera (0.038 deg per pixel); larger steps cost a second round, not a wrong answer.
+constexpr double kVoteReachStepDeg = 0.08;
 // A sample at the pixel's own direction must not take infinite weight in the edge vote:
 // (0.01 deg)^2, far below any sample spacing.
 constexpr double kVoteDistanceFloorDeg2 = 1e-4;
@@ -333,10 +341,14 @@ bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAn
 
 void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                           const DepthCompletionParams& params, const GroundPlane& plane,
-                          double median_depth, ThreadPool& pool, PixelPredictions& out) {
+                          double median_depth, ThreadPool& pool, PixelPredictions& out,
+                          ModelScratch& scratch) {
   const GroundPriorParams& g = params.ground;
   const std::size_t n = static_cast<std::size_t>(angles.grid().size());
-  setNoPrediction(angles.grid(), out);
+  // No fill: every pixel is written below, inside a triangle by the rasteriser, else by the gap
+  // pass.
+  out.mean.resize(n);
+  out.variance.resize(n);
   const std::vector<AngularTriangle> triangles = triangulateSamples(samples, angles);
   std::vector<DenseVertexInfo> info(triangles.size());
   pool.parallelFor(
@@ -361,8 +373,10 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   auto same_surface = [ratio](const bool* ground, const double* z, int a, int b) {
     return (ground[a] && ground[b]) || std::max(z[a], z[b]) <= ratio * std::min(z[a], z[b]);
   };
-  std::vector<std::uint8_t> filled;
-  std::vector<float> longest(n, 0.0f);
+  std::vector<std::uint8_t>& filled = scratch.filled;
+  // Read only where filled, and written wherever the rasteriser fills: no initialisation.
+  std::vector<float>& longest = scratch.longest_edge;
+  longest.resize(n);
   rasterizeTriangles(
       triangles, angles, pool, filled,
       [&](const AngularTriangle& t, double l0, double l1, double l2, std::size_t pixel, float az,
@@ -389,11 +403,13 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
         }
         if (edge) {
           thread_local std::vector<std::pair<double, int>> nearest;
-          // Edge pixels come in runs along a row: the previous query's k-th distance (plus a
-          // margin) is where this one's search starts, so one round of the bin walk suffices.
+          // Edge pixels come in runs along a row: the previous query's k-th distance plus the
+          // step to this pixel bounds this one's (triangle inequality), so one round of the bin
+          // walk mostly suffices; when not (a new row, a far jump), the search widens itself.
           thread_local double previous_kth_deg = 0.0;
           bins.nearest(az, el, g.surface_k, nearest, previous_kth_deg);
-          if (!nearest.empty()) previous_kth_deg = 1.1 * std::sqrt(nearest.back().first) + 0.05;
+          if (!nearest.empty())
+            previous_kth_deg = std::sqrt(nearest.back().first) + kVoteReachStepDeg;
           best = 0.0;
           for (int i = 0; i < 3; ++i) {
             double support = 0.0;

@@ -41,13 +41,20 @@ BaselineModel baselineModel(DepthModel model) {
 
 }  // namespace
 
+bool groundGpUsesTiles(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                       const DepthCompletionParams& params) {
+  if (params.max_neighbors > 0) return true;
+  return meanSamplesWithinRadius(samples, angles, params) > kLargeNeighbourSetMean;
+}
+
 bool isBaseline(DepthModel model) {
   return baselineModel(model) != nullptr;
 }
 
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
-                     PixelPredictions& out, const cv::Mat& image, GroundChoice* ground) {
+                     PixelPredictions& out, const cv::Mat& image, GroundChoice* ground,
+                     ModelScratch* scratch) {
   if (const BaselineModel baseline = baselineModel(params.model)) {
     baseline(samples, angles, params, pool, out);
     return 0;
@@ -65,12 +72,22 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
   }
   if (params.model == DepthModel::kGroundGp && choice.dense) {
     // Dense input needs no neighbour sets: the interpolating prior is the prediction.
+    ModelScratch local;
     predictGroundGpDense(samples, angles, params, choice.plane, computeShift(DepthShift{}, samples),
-                         pool, out);
+                         pool, out, scratch != nullptr ? *scratch : local);
     return 0;
   }
   if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
     return predictTiledLocalGp(samples, angles, params, shift, pool, out);
+  }
+  if (params.model == DepthModel::kGroundGp && groundGpUsesTiles(samples, angles, params)) {
+    // No neighbour sets: building them alone takes longer than the whole approximation.
+    if (ground) ground->tiled_residual = true;
+    DepthCompletionParams tiled = params;
+    if (tiled.max_neighbors == 0) tiled.max_neighbors = kAutoMaxNeighbors;
+    const double median = computeShift(DepthShift{}, samples);
+    predictGroundGp(samples, angles, nullptr, tiled, choice.plane, median, pool, out);
+    return 0;
   }
   const NeighbourSets sets =
       NeighbourSets::build(samples, angles, static_cast<float>(params.radius_deg), pool);
@@ -78,7 +95,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     predictLocalGp(samples, angles, sets, params, shift, pool, out);
   } else if (params.model == DepthModel::kGroundGp) {
     const double median = computeShift(DepthShift{}, samples);
-    predictGroundGp(samples, angles, sets, params, choice.plane, median, pool, out);
+    predictGroundGp(samples, angles, &sets, params, choice.plane, median, pool, out);
   } else {
     predictKernel(samples, angles, sets, params, shift, pool, out);
   }

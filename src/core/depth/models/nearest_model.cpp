@@ -131,60 +131,92 @@ void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAn
                          std::max(box.az_max, image.az_max), std::min(box.el_min, image.el_min),
                          std::max(box.el_max, image.el_max));
 
-  constexpr int kBlock = 8;
-  const int block_rows = (rows + kBlock - 1) / kBlock, block_cols = (cols + kBlock - 1) / kBlock;
+  // Blocks of grid pixels share one candidate set: 8x8 near the data; where the data are far
+  // compared with a 32x32 block's size (the sky above a LiDAR's top ring), the whole 32x32 block,
+  // because there each block's ring search and range query visit many empty bins (they took 80 %
+  // of the time on VoD 00549 LiDAR, 36,784 blocks with ~20 candidates each).
+  constexpr int kBlock = 8, kSuperBlock = 32;
+  constexpr float kFarRatio = 4.0f;  // a 32x32 block is one set when dc > kFarRatio * its h
+  struct Block {
+    int r0, r1, c0, c1;
+    float caz, cel, h, dc2;
+  };
+  auto block = [&](int r0, int c0, int size) {
+    Block b{r0, std::min(rows, r0 + size), c0, std::min(cols, c0 + size), 0, 0, 0, 0};
+    float baz0 = std::numeric_limits<float>::infinity(), baz1 = -baz0, bel0 = baz0, bel1 = -baz0;
+    for (int r = b.r0; r < b.r1; ++r) {
+      const float* az = angles.azimuthRow(r);
+      const float* el = angles.elevationRow(r);
+      for (int c = b.c0; c < b.c1; ++c) {
+        baz0 = std::min(baz0, az[c]);
+        baz1 = std::max(baz1, az[c]);
+        bel0 = std::min(bel0, el[c]);
+        bel1 = std::max(bel1, el[c]);
+      }
+    }
+    b.caz = 0.5f * (baz0 + baz1);
+    b.cel = 0.5f * (bel0 + bel1);
+    b.h = 0.5f * std::hypot(baz1 - baz0, bel1 - bel0);
+    bins.nearest(b.caz, b.cel, &b.dc2);
+    return b;
+  };
   std::vector<std::vector<int>> scratch(static_cast<std::size_t>(pool.size()));
-  pool.parallelFor(
-      static_cast<long long>(block_rows) * block_cols,
-      [&](long long b, int worker) {
-        const int r0 = static_cast<int>(b / block_cols) * kBlock;
-        const int c0 = static_cast<int>(b % block_cols) * kBlock;
-        const int r1 = std::min(rows, r0 + kBlock), c1 = std::min(cols, c0 + kBlock);
-        float baz0 = std::numeric_limits<float>::infinity(), baz1 = -baz0, bel0 = baz0,
-              bel1 = -baz0;
-        for (int r = r0; r < r1; ++r) {
-          const float* az = angles.azimuthRow(r);
-          const float* el = angles.elevationRow(r);
-          for (int c = c0; c < c1; ++c) {
-            baz0 = std::min(baz0, az[c]);
-            baz1 = std::max(baz1, az[c]);
-            bel0 = std::min(bel0, el[c]);
-            bel1 = std::max(bel1, el[c]);
+  std::vector<std::vector<std::pair<float, int>>> by_distance(scratch.size());
+  auto predictBlock = [&](const Block& b, int worker) {
+    const int r0 = b.r0, r1 = b.r1, c0 = b.c0, c1 = b.c1;
+    const float caz = b.caz, cel = b.cel;
+    // Margin for float rounding of the distances involved.
+    const float reach = std::sqrt(b.dc2) + 2.0f * b.h + 1e-3f;
+    std::vector<int>& found = scratch[static_cast<std::size_t>(worker)];
+    found.clear();
+    bins.within(caz, cel, reach, found);
+    // Candidates by distance from the block centre: a pixel r from the centre is at least
+    // (centre distance - r) from a candidate, so its scan stops once that bound exceeds the
+    // best distance so far. Blocks far from the data (the sky above a LiDAR's top ring) have
+    // hundreds of candidates in a thin ring around the centre; most pixels stop after a few.
+    std::vector<std::pair<float, int>>& candidates = by_distance[static_cast<std::size_t>(worker)];
+    candidates.clear();
+    for (int i : found) {
+      const float da = samples[i].azimuth_deg - caz, de = samples[i].elevation_deg - cel;
+      candidates.emplace_back(std::sqrt(da * da + de * de), i);
+    }
+    std::sort(candidates.begin(), candidates.end());
+    for (int r = r0; r < r1; ++r) {
+      const float* az = angles.azimuthRow(r);
+      const float* el = angles.elevationRow(r);
+      const std::size_t row = static_cast<std::size_t>(r) * cols;
+      for (int c = c0; c < c1; ++c) {
+        // Margin for float rounding of the distances involved (as `reach` above).
+        const float offset = std::hypot(az[c] - caz, el[c] - cel) + 1e-3f;
+        int best = -1;
+        float best_d = std::numeric_limits<float>::infinity();
+        for (const auto& [centre_distance, i] : candidates) {
+          const float bound = centre_distance - offset;
+          if (bound > 0.0f && bound * bound > best_d) break;
+          const float da = samples[i].azimuth_deg - az[c], de = samples[i].elevation_deg - el[c];
+          const float d2 = da * da + de * de;
+          if (d2 < best_d || (d2 == best_d && i < best)) {  // ties: the lower index wins
+            best_d = d2;
+            best = i;
           }
         }
-        const float caz = 0.5f * (baz0 + baz1), cel = 0.5f * (bel0 + bel1);
-        const float h = 0.5f * std::hypot(baz1 - baz0, bel1 - bel0);
-        float dc2 = 0.0f;
-        bins.nearest(caz, cel, &dc2);
-        // Margin for float rounding of the distances involved.
-        const float reach = std::sqrt(dc2) + 2.0f * h + 1e-3f;
-        std::vector<int>& candidates = scratch[static_cast<std::size_t>(worker)];
-        candidates.clear();
-        bins.within(caz, cel, reach, candidates);
-        std::sort(candidates.begin(), candidates.end());  // ties: the lower index wins
-        for (int r = r0; r < r1; ++r) {
-          const float* az = angles.azimuthRow(r);
-          const float* el = angles.elevationRow(r);
-          const std::size_t row = static_cast<std::size_t>(r) * cols;
-          for (int c = c0; c < c1; ++c) {
-            int best = candidates.front();
-            float best_d = std::numeric_limits<float>::infinity();
-            for (int i : candidates) {
-              const float da = samples[i].azimuth_deg - az[c],
-                          de = samples[i].elevation_deg - el[c];
-              const float d2 = da * da + de * de;
-              if (d2 < best_d) {
-                best_d = d2;
-                best = i;
-              }
-            }
-            out.mean[row + c] = samples[best].depth;
-            out.variance[row + c] =
-                static_cast<float>(distanceVariance(std::sqrt(double(best_d)), params));
-          }
-        }
-      },
-      4);
+        out.mean[row + c] = samples[best].depth;
+        out.variance[row + c] =
+            static_cast<float>(distanceVariance(std::sqrt(double(best_d)), params));
+      }
+    }
+  };
+  const int super_rows = (rows + kSuperBlock - 1) / kSuperBlock;
+  const int super_cols = (cols + kSuperBlock - 1) / kSuperBlock;
+  pool.parallelFor(static_cast<long long>(super_rows) * super_cols, [&](long long s, int worker) {
+    const int r0 = static_cast<int>(s / super_cols) * kSuperBlock;
+    const int c0 = static_cast<int>(s % super_cols) * kSuperBlock;
+    const Block whole = block(r0, c0, kSuperBlock);
+    if (std::sqrt(whole.dc2) > kFarRatio * whole.h) return predictBlock(whole, worker);
+    for (int r = r0; r < whole.r1; r += kBlock)
+      for (int c = c0; c < whole.c1; c += kBlock)
+        predictBlock(block(r, c, kBlock), worker);
+  });
 }
 
 }  // namespace multimodal_nvs

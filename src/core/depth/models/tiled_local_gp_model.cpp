@@ -12,6 +12,7 @@
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
+#include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
 #include "multimodal_nvs/core/depth/gp/local_gp.hpp"
 #include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
@@ -98,17 +99,79 @@ void minSquaredDistance(const float* az, const float* el, int pixels, const Tile
   }
 }
 
+/// The samples of one block's length-scale search.
+struct BlockSet {
+  std::vector<float> az, el;
+  std::vector<double> y;
+};
+
+/// Length scale of every block's set (0 for an empty set). Sets of 3..kMaxBatchedSize samples are
+/// searched kLanes at a time, grouped by size; the others one by one.
+std::vector<double> searchBlockLengthScales(const std::vector<BlockSet>& sets,
+                                            const LocalGpParams& gp, ThreadPool& pool,
+                                            std::vector<TileWorkspace>& workspaces) {
+  std::vector<double> length_scale(sets.size(), 0.0);
+  std::vector<std::vector<int>> by_size(LengthScaleSearch::kMaxBatchedSize + 1);
+  std::vector<int> singles;
+  for (std::size_t b = 0; b < sets.size(); ++b) {
+    const int n = static_cast<int>(sets[b].y.size());
+    if (n >= 3 && n <= LengthScaleSearch::kMaxBatchedSize) {
+      by_size[n].push_back(static_cast<int>(b));
+    } else if (n > 0) {
+      singles.push_back(static_cast<int>(b));
+    }
+  }
+  std::vector<std::vector<int>> batches;
+  for (const std::vector<int>& equal_size : by_size) {
+    for (std::size_t i = 0; i < equal_size.size(); i += LengthScaleSearch::kLanes) {
+      const std::size_t end = std::min(equal_size.size(), i + LengthScaleSearch::kLanes);
+      batches.emplace_back(equal_size.begin() + i, equal_size.begin() + end);
+    }
+  }
+  std::vector<LengthScaleSearch> searches(pool.size(), LengthScaleSearch(gp));
+  pool.parallelFor(static_cast<long long>(batches.size()), [&](long long k, int worker) {
+    const std::vector<int>& batch = batches[k];
+    const float* az[LengthScaleSearch::kLanes];
+    const float* el[LengthScaleSearch::kLanes];
+    const double* y[LengthScaleSearch::kLanes];
+    double result[LengthScaleSearch::kLanes];
+    for (std::size_t lane = 0; lane < batch.size(); ++lane) {
+      az[lane] = sets[batch[lane]].az.data();
+      el[lane] = sets[batch[lane]].el.data();
+      y[lane] = sets[batch[lane]].y.data();
+    }
+    const int lanes = static_cast<int>(batch.size());
+    searches[worker].search(static_cast<int>(sets[batch[0]].y.size()), lanes, az, el, y, result);
+    for (int lane = 0; lane < lanes; ++lane)
+      length_scale[batch[lane]] = result[lane];
+  });
+  pool.parallelFor(static_cast<long long>(singles.size()), [&](long long k, int worker) {
+    const BlockSet& set = sets[singles[k]];
+    LocalGp& local = workspaces[worker].gp;
+    local.setData(set.az.data(), set.el.data(), set.y.data(), static_cast<int>(set.y.size()));
+    length_scale[singles[k]] = local.searchLengthScale();
+  });
+  return length_scale;
+}
+
 }  // namespace
 
 int predictTiledLocalGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, double shift, ThreadPool& pool,
                         PixelPredictions& out) {
+  return predictTiledLocalGp(samples, shiftedTargets(samples, shift), angles, params,
+                             PriorMean{shift}, pool, out);
+}
+
+int predictTiledLocalGp(const std::vector<AngularSample>& samples,
+                        const std::vector<double>& targets, const PixelAngleGrid& angles,
+                        const DepthCompletionParams& params, const PriorMean& prior,
+                        ThreadPool& pool, PixelPredictions& out) {
   const LocalGpParams& gp = params.gp;
-  const std::size_t total = static_cast<std::size_t>(angles.grid().size());
-  out.mean.assign(total, static_cast<float>(shift));
-  out.variance.assign(total, static_cast<float>(gp.priorVariance()));
+  const double shift = prior.constant;
+  fillPredictions(angles, static_cast<float>(shift), static_cast<float>(gp.priorVariance()), pool,
+                  out);
   if (samples.empty()) return 0;
-  const std::vector<double> targets = shiftedTargets(samples, shift);
   // Bins of half the radius: queries of radius + half tile diagonal then scan ~2/3 less area
   // outside the circle than radius-sized bins would.
   const AngularBins bins(samples, 0.5 * params.radius_deg);
@@ -122,19 +185,25 @@ int predictTiledLocalGp(const std::vector<AngularSample>& samples, const PixelAn
   std::vector<TileWorkspace> workspaces(pool.size(), TileWorkspace(gp));
 
   // 1. One length-scale search per block of tiles, on the samples nearest to the block centre.
-  std::vector<double> block_length_scale(std::size_t(blocks_x) * blocks_y, 0.0);
+  // The blocks' sets are gathered first so that sets of equal size share one batched search, one
+  // set per SIMD lane (each lane computes exactly what a lone search would: same result).
+  const long long block_count = static_cast<long long>(blocks_x) * blocks_y;
+  std::vector<BlockSet> block_sets(static_cast<std::size_t>(block_count));
   const int block_px = tile * kSearchBlock;
-  pool.parallelFor(static_cast<long long>(blocks_x) * blocks_y, [&](long long b, int worker) {
+  pool.parallelFor(block_count, [&](long long b, int worker) {
     TileWorkspace& ws = workspaces[worker];
     const int r0 = static_cast<int>(b / blocks_x) * block_px;
     const int c0 = static_cast<int>(b % blocks_x) * block_px;
     const TileGeometry geometry = tileGeometry(angles, r0, std::min(rows, r0 + block_px), c0,
                                                std::min(cols, c0 + block_px), params.radius_deg);
     const int n = loadNearestSamples(samples, targets, bins, geometry, params.max_neighbors, ws);
-    if (n == 0) return;
-    ws.gp.setData(ws.az.data(), ws.el.data(), ws.y.data(), n);
-    block_length_scale[b] = ws.gp.searchLengthScale();
+    block_sets[b] = {ws.az, ws.el, ws.y};
+    block_sets[b].az.resize(n);
+    block_sets[b].el.resize(n);
+    block_sets[b].y.resize(n);
   });
+  const std::vector<double> block_length_scale =
+      searchBlockLengthScales(block_sets, gp, pool, workspaces);
 
   // 2. Per tile: its own nearest samples, one factorisation, predictions for its pixels.
   std::vector<std::uint8_t> solved(std::size_t(tiles_x) * tiles_y, 0);
@@ -182,6 +251,31 @@ int predictTiledLocalGp(const std::vector<AngularSample>& samples, const PixelAn
   for (auto s : solved)
     count += s;
   return count;
+}
+
+double meanSamplesWithinRadius(const std::vector<AngularSample>& samples,
+                               const PixelAngleGrid& angles, const DepthCompletionParams& params) {
+  const ImageSize& image = angles.grid().image;
+  std::vector<AngularSample> in_view;
+  for (const AngularSample& s : usableSamples(samples)) {
+    double u = 0, v = 0;
+    if (angularToPixel(angles.intrinsics(), s.azimuth_deg, s.elevation_deg, &u, &v) && u >= 0.0 &&
+        v >= 0.0 && u < image.width && v < image.height) {
+      in_view.push_back(s);
+    }
+  }
+  if (in_view.empty()) return 0.0;
+  const double radius = params.radius_deg;
+  const AngularBins bins(in_view, radius);
+  std::size_t pairs = 0;
+  for (const AngularSample& s : in_view) {
+    bins.query(s.azimuth_deg, s.elevation_deg, radius, [&](int i) {
+      const double da = in_view[i].azimuth_deg - s.azimuth_deg;
+      const double de = in_view[i].elevation_deg - s.elevation_deg;
+      pairs += da * da + de * de <= radius * radius;
+    });
+  }
+  return double(pairs) / double(in_view.size());
 }
 
 }  // namespace multimodal_nvs

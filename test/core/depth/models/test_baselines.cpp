@@ -122,6 +122,41 @@ TEST(Baselines, NearestMatchesBruteForceOnRandomScenes) {
   }
 }
 
+// A narrow camera whose returns lie in the bottom rows only (a LiDAR's view): the blocks far above
+// them take the one-set-per-large-block path, which must stay exact (ties: the lower index).
+TEST(Baselines, NearestMatchesBruteForceFarFromTheData) {
+  const mm::PinholeIntrinsics k{1000.0, 1000.0, 80.0, 150.0};
+  const mm::ImageSize image{300, 160};
+  std::srand(11);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 400; ++i) {
+    const double u = -10 + 180.0 * std::rand() / RAND_MAX, v = 260 + 40.0 * std::rand() / RAND_MAX;
+    points.push_back(pointOnPixelRay(k, u, v, 5.0 + 30.0 * std::rand() / RAND_MAX));
+  }
+  points.push_back(2.0 * points[17]);  // same angles (exact scaling): the lower index must win
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kNearest;
+  mm::DepthCompleter completer(2);
+  const mm::DepthMap map = completer.complete(points, k, mm::StrideGrid{image, 1}, params);
+  const std::vector<mm::AngularSample> samples = mm::toAngularSamples(points);
+  const mm::PixelAngleGrid angles(k, map.grid);
+  for (int r = 0; r < map.grid.rows(); ++r) {
+    for (int c = 0; c < map.grid.cols(); ++c) {
+      const float az = angles.azimuthRow(r)[c], el = angles.elevationRow(r)[c];
+      float best = INFINITY;
+      float depth = 0;
+      for (const auto& s : samples) {
+        const float da = s.azimuth_deg - az, de = s.elevation_deg - el;
+        if (da * da + de * de < best) {
+          best = da * da + de * de;
+          depth = s.depth;
+        }
+      }
+      ASSERT_EQ(map.depth[std::size_t(r) * map.grid.cols() + c], depth) << r << " " << c;
+    }
+  }
+}
+
 TEST(Baselines, LinearIsExactForDepthAffineInTheAngles) {
   const auto k = smallCamera();
   std::vector<Eigen::Vector3d> points;

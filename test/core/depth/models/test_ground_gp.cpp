@@ -12,8 +12,13 @@
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/depth/depth_shift.hpp"
+#include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/ground_gp_model.hpp"
+#include "multimodal_nvs/core/depth/models/model_registry.hpp"
+#include "multimodal_nvs/core/depth/models/tiled_local_gp_model.hpp"
+#include "multimodal_nvs/core/depth/neighbour_sets.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 #include "multimodal_nvs/core/eval/depth_metrics.hpp"
 
@@ -405,4 +410,81 @@ TEST(Calibration, CountsTruthInsideTheIntervals) {
   mm::CalibrationCounts other = counts;
   other.levels = {0.5};
   EXPECT_THROW(total.merge(other), mm::InputError);
+}
+
+// --- large neighbour sets: the tiled residual GP
+// ---------------------------------------------------
+
+namespace {
+// A scene for the residual GP: a wall at 12 m over the upper rows and a car at 7 m in the middle,
+// one return every `step` pixels, some of them multipath returns 20 m behind.
+std::vector<Eigen::Vector3d> wallAndCar(int step) {
+  std::vector<Eigen::Vector3d> points;
+  for (int v = 5; v < 60; v += step) {
+    for (int u = 2; u < 160; u += step) {
+      const bool car = u > 50 && u < 110 && v > 35;
+      const bool multipath = (u + v) % 7 == 0;
+      points.push_back(pointOnPixelRay(smallCamera(), u, v, (car ? 7.0 : 12.0) + multipath * 20));
+    }
+  }
+  return points;
+}
+}  // namespace
+
+TEST(GroundGpTiled, SwitchesOnlyWhenNeighbourSetsAreLarge) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  auto params = groundGpParams(mm::GroundPriorParams::Input::kSparse);
+  // ~0.57 deg per pixel: within 3 deg a return every 2 px has ~20 others, every 6 px a few.
+  params.radius_deg = 3.0;
+  const auto dense = mm::toAngularSamples(wallAndCar(2));
+  const auto sparse = mm::toAngularSamples(wallAndCar(6));
+  EXPECT_GT(mm::meanSamplesWithinRadius(dense, angles, params), 18.0);
+  EXPECT_LT(mm::meanSamplesWithinRadius(sparse, angles, params), 6.0);
+  EXPECT_TRUE(mm::groundGpUsesTiles(dense, angles, params));
+  EXPECT_FALSE(mm::groundGpUsesTiles(sparse, angles, params));
+  // One lone return counts itself; returns out of view do not count.
+  EXPECT_EQ(mm::meanSamplesWithinRadius(mm::toAngularSamples({{0.0, 0.0, 10.0}}), angles, params),
+            1.0);
+  EXPECT_EQ(mm::meanSamplesWithinRadius(mm::toAngularSamples({{0.0, 0.0, -10.0}}), angles, params),
+            0.0);
+  params.max_neighbors = 8;  // asked for explicitly
+  EXPECT_TRUE(mm::groundGpUsesTiles(sparse, angles, params));
+
+  EXPECT_EQ(completeSmallImage(wallAndCar(2), params).stats.ground_mode, "sparse_tiled");
+  EXPECT_EQ(completeSmallImage(wallAndCar(6), groundGpParams(mm::GroundPriorParams::Input::kSparse))
+                .stats.ground_mode,
+            "sparse");
+}
+
+TEST(GroundGpTiled, ResidualGpIsCloseToTheExactOneAndIndependentOfThreads) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  auto params = groundGpParams(mm::GroundPriorParams::Input::kSparse);
+  params.max_neighbors = 16;
+  params.approx_tile = 8;
+  const auto samples = mm::toAngularSamples(wallAndCar(2));
+  const mm::GroundPlane plane = mm::givenGroundPlane(params.ground);
+  const double median = mm::computeShift(mm::DepthShift{}, samples);
+  mm::ThreadPool pool(2);
+  const auto sets = mm::NeighbourSets::build(samples, angles, 2.0f, pool);
+  mm::PixelPredictions exact, tiled;
+  mm::predictGroundGp(samples, angles, &sets, params, plane, median, pool, exact);
+  mm::predictGroundGp(samples, angles, nullptr, params, plane, median, pool, tiled);
+  // The residual GP has amplitude 1 m and residuals in [-3, 0] m: the approximation moves the
+  // depth by less than 3 m anywhere, and by centimetres on average.
+  double total = 0.0, worst = 0.0;
+  for (std::size_t i = 0; i < exact.mean.size(); ++i) {
+    const double d = std::abs(double(tiled.mean[i]) - exact.mean[i]);
+    total += d;
+    worst = std::max(worst, d);
+    ASSERT_TRUE(std::isfinite(tiled.variance[i]) && tiled.variance[i] > 0.0f) << i;
+  }
+  EXPECT_LT(total / exact.mean.size(), 0.05) << total / exact.mean.size();
+  EXPECT_LT(worst, 3.0);
+  for (int threads : {1, 3}) {
+    mm::ThreadPool other(threads);
+    mm::PixelPredictions again;
+    mm::predictGroundGp(samples, angles, nullptr, params, plane, median, other, again);
+    ASSERT_EQ(again.mean, tiled.mean) << threads;
+    ASSERT_EQ(again.variance, tiled.variance) << threads;
+  }
 }

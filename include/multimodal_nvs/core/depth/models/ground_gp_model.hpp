@@ -12,17 +12,21 @@ namespace multimodal_nvs {
 
 struct GroundPlane;
 /// `ground_gp`: local GP on the residual around the ground-plane prior (ground_gp_model.cpp).
+/// `sets`: the exact residual GP on these neighbour sets; nullptr: the tile approximation
+/// (predictTiledLocalGp with params.max_neighbors samples per tile), for large neighbour sets.
 void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                     const NeighbourSets& sets, const DepthCompletionParams& params,
+                     const NeighbourSets* sets, const DepthCompletionParams& params,
                      const GroundPlane& plane, double median_depth, ThreadPool& pool,
                      PixelPredictions& out);
 
 /// `ground_gp` on dense input (ground_gp_model.cpp): the prior is the edge-aware interpolation of
 /// inverse depth on the Delaunay triangulation of the samples; no residual GP (the prior already
-/// passes through every sample, so the GP's posterior mean would equal it).
+/// passes through every sample, so the GP's posterior mean would equal it). Work buffers in
+/// `scratch`.
 void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                           const DepthCompletionParams& params, const GroundPlane& plane,
-                          double median_depth, ThreadPool& pool, PixelPredictions& out);
+                          double median_depth, ThreadPool& pool, PixelPredictions& out,
+                          ModelScratch& scratch);
 
 /// Whether `ground_gp` runs its dense-input mode: params.ground.input, or for auto whether the mean
 /// angular spacing sqrt(view area / samples in view) is at most half of params.radius_deg.

@@ -1,5 +1,6 @@
 #pragma once
 // What every depth model writes: a mean and a variance per output pixel.
+#include <cstdint>
 #include <limits>
 #include <vector>
 #include "multimodal_nvs/core/common/thread_pool.hpp"
@@ -11,6 +12,13 @@ namespace multimodal_nvs {
 struct PixelPredictions {
   std::vector<float> mean;
   std::vector<float> variance;
+};
+
+/// Full-image work buffers a model keeps between frames (the completer owns them): a fresh
+/// full-resolution buffer costs its page faults on every frame (9.4 MB of floats at 1936x1216).
+struct ModelScratch {
+  std::vector<std::uint8_t> filled;  ///< ground_gp dense: pixels inside a triangle
+  std::vector<float> longest_edge;   ///< ground_gp dense: longest edge (deg) of a pixel's triangle
 };
 
 /// Variance of a pixel that got no prediction.
