@@ -93,16 +93,11 @@ TEST(Baselines, NearestIsExactAtASampleAndEverywhereDefined) {
   EXPECT_NEAR(mm::distanceVariance(0.75, params), 0.25 + 625.0, 1e-9);
 }
 
-TEST(Baselines, NearestMatchesBruteForceOnRandomScenes) {
-  const auto k = smallCamera();
-  std::srand(7);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < 300; ++i) {
-    // Also points outside the image, so some pixels' nearest samples lie beyond the border.
-    const double u = -80 + 320.0 * std::rand() / RAND_MAX, v = -60 + 240.0 * std::rand() / RAND_MAX;
-    points.push_back(pointOnPixelRay(k, u, v, 2.0 + 40.0 * std::rand() / RAND_MAX));
-  }
-  const mm::DepthMap map = run(points, mm::DepthModel::kNearest, 3);
+namespace {
+
+/// Every pixel of `map` holds the depth of the angularly nearest of `points` (the first on a tie).
+void expectNearestIsBruteForce(const mm::DepthMap& map, const std::vector<Eigen::Vector3d>& points,
+                               const mm::PinholeIntrinsics& k) {
   const std::vector<mm::AngularSample> samples = mm::toAngularSamples(points);
   const mm::PixelAngleGrid angles(k, map.grid);
   for (int r = 0; r < map.grid.rows(); ++r) {
@@ -122,6 +117,21 @@ TEST(Baselines, NearestMatchesBruteForceOnRandomScenes) {
   }
 }
 
+}  // namespace
+
+TEST(Baselines, NearestMatchesBruteForceOnRandomScenes) {
+  const auto k = smallCamera();
+  std::srand(7);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 300; ++i) {
+    // Also points outside the image, so some pixels' nearest samples lie beyond the border.
+    const double u = -80 + 320.0 * std::rand() / RAND_MAX, v = -60 + 240.0 * std::rand() / RAND_MAX;
+    points.push_back(pointOnPixelRay(k, u, v, 2.0 + 40.0 * std::rand() / RAND_MAX));
+  }
+  const mm::DepthMap map = run(points, mm::DepthModel::kNearest, 3);
+  expectNearestIsBruteForce(map, points, k);
+}
+
 // A narrow camera whose returns lie in the bottom rows only (a LiDAR's view): the blocks far above
 // them take the one-set-per-large-block path, which must stay exact (ties: the lower index).
 TEST(Baselines, NearestMatchesBruteForceFarFromTheData) {
@@ -138,23 +148,7 @@ TEST(Baselines, NearestMatchesBruteForceFarFromTheData) {
   params.model = mm::DepthModel::kNearest;
   mm::DepthCompleter completer(2);
   const mm::DepthMap map = completer.complete(points, k, mm::StrideGrid{image, 1}, params);
-  const std::vector<mm::AngularSample> samples = mm::toAngularSamples(points);
-  const mm::PixelAngleGrid angles(k, map.grid);
-  for (int r = 0; r < map.grid.rows(); ++r) {
-    for (int c = 0; c < map.grid.cols(); ++c) {
-      const float az = angles.azimuthRow(r)[c], el = angles.elevationRow(r)[c];
-      float best = INFINITY;
-      float depth = 0;
-      for (const auto& s : samples) {
-        const float da = s.azimuth_deg - az, de = s.elevation_deg - el;
-        if (da * da + de * de < best) {
-          best = da * da + de * de;
-          depth = s.depth;
-        }
-      }
-      ASSERT_EQ(map.depth[std::size_t(r) * map.grid.cols() + c], depth) << r << " " << c;
-    }
-  }
+  expectNearestIsBruteForce(map, points, k);
 }
 
 TEST(Baselines, LinearIsExactForDepthAffineInTheAngles) {
