@@ -292,22 +292,23 @@ double completeFrames(const Options& o, const std::vector<FrameJob>& jobs, bool 
   mm::DepthMap maps[2];
   std::future<void> writes[2];
   std::future<LoadedFrame> next;
-  if (!jobs.empty()) next = std::async(std::launch::async, loadFrame, std::cref(o), jobs[0]);
+  const auto load = [&](std::size_t i) {
+    return std::async(std::launch::async, loadFrame, std::cref(o), std::cref(jobs[i]));
+  };
+  if (!jobs.empty()) next = load(0);
   for (std::size_t i = 0; i < jobs.size(); ++i) {
+    const FrameJob& job = jobs[i];
     const LoadedFrame frame = next.get();
-    if (i + 1 < jobs.size()) {
-      next = std::async(std::launch::async, loadFrame, std::cref(o), std::cref(jobs[i + 1]));
-    }
+    if (i + 1 < jobs.size()) next = load(i + 1);
     mm::DepthMap& result = maps[i % 2];
     if (writes[i % 2].valid()) writes[i % 2].get();  // frame i-2's outputs, from this map
-    compute_ms += computeFrame(o, jobs[i], frame, many, completer, result);
-    if (!jobs[i].prefix.empty()) {
+    compute_ms += computeFrame(o, job, frame, many, completer, result);
+    if (!job.prefix.empty()) {
       writes[i % 2] =
-          std::async(std::launch::async, [&o, &result, prefix = jobs[i].prefix, grid = frame.grid] {
+          std::async(std::launch::async, [&o, &result, prefix = job.prefix, grid = frame.grid] {
             writeOutputs(o, prefix, result, grid);
           });
     }
-    const FrameJob& job = jobs[i];
     progress.step(job.number >= 0 ? mm::io::VodFrame{o.vod_root, job.number}.id() : job.points);
   }
   for (std::future<void>& write : writes) {

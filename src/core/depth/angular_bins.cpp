@@ -43,8 +43,8 @@ void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<dou
   out.clear();
   if (order_.empty() || k <= 0) return;
   const std::size_t kk = static_cast<std::size_t>(k);
-  // Grow the searched square until it holds k samples whose k-th distance is inside the square
-  // (then nothing outside can be nearer), or until it covers every sample.
+  // Grow the search radius until k samples lie within it (then nothing outside can be nearer), or
+  // until it covers every sample.
   const double extent = std::max({max_az_ - min_az_, max_el_ - min_el_, bin_}) +
                         std::abs(az - min_az_) + std::abs(el - min_el_);
   for (double reach = std::max(bin_, start_reach);; reach *= 2.0) {
@@ -56,14 +56,12 @@ void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<dou
     // elevation to the query the disc is 2 sqrt(reach^2 - dy^2) wide (a square walk visits 4/pi
     // times the samples). Samples outside the disc are farther than reach, and the result stands
     // only if the k-th distance is within reach, so skipping them changes nothing.
-    const int y0 = std::max(0, static_cast<int>(std::floor((el - reach - min_el_) / bin_)));
-    const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((el + reach - min_el_) / bin_)));
+    const auto [y0, y1] = binSpan(el - reach, el + reach, min_el_, ny_);
     for (int y = y0; y <= y1; ++y) {
       const double row_lo = min_el_ + y * bin_, row_hi = row_lo + bin_;
       const double dy = el < row_lo ? row_lo - el : (el > row_hi ? el - row_hi : 0.0);
       const double half = std::sqrt(std::max(0.0, reach * reach - dy * dy));
-      const int x0 = std::max(0, static_cast<int>(std::floor((az - half - min_az_) / bin_)));
-      const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((az + half - min_az_) / bin_)));
+      const auto [x0, x1] = binSpan(az - half, az + half, min_az_, nx_);
       if (x0 > x1) continue;
       const std::size_t row = std::size_t(y) * nx_;
       for (int b = start_[row + x0]; b < start_[row + x1 + 1]; ++b) {

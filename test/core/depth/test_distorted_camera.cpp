@@ -71,6 +71,21 @@ double heldOutMae(const mm::DepthMap& depth, const std::vector<Eigen::Vector3d>&
   return *count > 0 ? sum / *count : INFINITY;
 }
 
+/// `points` completed by `model` twice on `grid`: with the frame's lens model and as a pinhole.
+struct BothWays {
+  mm::DepthMap with_lens, as_pinhole;
+};
+BothWays completeBothWays(const DistortedFrame& f, const std::vector<Eigen::Vector3d>& points,
+                          const mm::StrideGrid& grid, mm::DepthModel model) {
+  mm::DepthCompletionParams params;
+  params.model = model;
+  params.threads = 2;
+  params.validate();
+  mm::DepthCompleter completer(params.threads);
+  return {completer.complete(points, f.lens, grid, params),
+          completer.complete(points, f.pinhole, grid, params)};
+}
+
 const mm::PinholeIntrinsics kLens(
     2109.75, 2071.72, 949.828, 576.237,
     mm::LensDistortion::fromRos("plumb_bob", {-0.108145, 0.138668, -0.00379757, -0.00484127, 0.0},
@@ -163,13 +178,7 @@ TEST(DistortedCamera, CompletedDepthFollowsTheDistortedProjection) {
   for (std::size_t i = 0; i < f.points.size(); ++i)
     (i % 4 == 0 ? input : held_out).push_back(f.points[i]);
   const mm::StrideGrid grid{f.image, 2};
-  mm::DepthCompletionParams params;
-  params.model = mm::DepthModel::kLinear;
-  params.threads = 2;
-  params.validate();
-  mm::DepthCompleter completer(params.threads);
-  const mm::DepthMap with_lens = completer.complete(input, f.lens, grid, params);
-  const mm::DepthMap as_pinhole = completer.complete(input, f.pinhole, grid, params);
+  const auto [with_lens, as_pinhole] = completeBothWays(f, input, grid, mm::DepthModel::kLinear);
   int n_lens = 0, n_lens_at_pinhole = 0, n_pinhole = 0;
   const double lens_mae = heldOutMae(with_lens, held_out, f.lens, grid, &n_lens);
   const double lens_at_pinhole_pixels =
@@ -196,13 +205,8 @@ TEST(DistortedCamera, DepthAtEachReturnsImagePixelIsItsOwn) {
   MMNVS_REQUIRE_DATA(root + "/lidar/training/calib/00000_camera_info.yaml");
   const DistortedFrame f = loadFrame(root);
   const mm::StrideGrid grid{f.image, 1};
-  mm::DepthCompletionParams params;
-  params.model = mm::DepthModel::kNearest;
-  params.threads = 2;
-  params.validate();
-  mm::DepthCompleter completer(params.threads);
-  const mm::DepthMap with_lens = completer.complete(f.points, f.lens, grid, params);
-  const mm::DepthMap as_pinhole = completer.complete(f.points, f.pinhole, grid, params);
+  const auto [with_lens, as_pinhole] =
+      completeBothWays(f, f.points, grid, mm::DepthModel::kNearest);
   const auto ownDepthShare = [&](const mm::DepthMap& depth) {
     int own = 0, total = 0;
     for (const Eigen::Vector3d& p : f.points) {

@@ -20,10 +20,8 @@ class AngularBins {
   template <typename Visit>
   void query(double az, double el, double reach, Visit&& visit) const {
     if (order_.empty()) return;
-    const int x0 = std::max(0, static_cast<int>(std::floor((az - reach - min_az_) / bin_)));
-    const int x1 = std::min(nx_ - 1, static_cast<int>(std::floor((az + reach - min_az_) / bin_)));
-    const int y0 = std::max(0, static_cast<int>(std::floor((el - reach - min_el_) / bin_)));
-    const int y1 = std::min(ny_ - 1, static_cast<int>(std::floor((el + reach - min_el_) / bin_)));
+    const auto [x0, x1] = binSpan(az - reach, az + reach, min_az_, nx_);
+    const auto [y0, y1] = binSpan(el - reach, el + reach, min_el_, ny_);
     for (int y = y0; y <= y1; ++y) {
       for (int x = x0; x <= x1; ++x) {
         const std::size_t b = std::size_t(y) * nx_ + x;
@@ -34,13 +32,19 @@ class AngularBins {
   }
 
   /// The (at most) k samples nearest to (az, el), as (squared distance, index), nearest first
-  /// (ties by index). `out` is cleared first. `start_reach` (degrees) is where
-  /// the search square starts: a neighbouring query's k-th distance makes one round enough.
+  /// (ties by index). `out` is cleared first. `start_reach` (degrees) is the first search radius:
+  /// a neighbouring query's k-th distance makes one round enough.
   void nearest(double az, double el, int k, std::vector<std::pair<double, int>>& out,
                double start_reach = 0.0) const;
 
  private:
   std::size_t binOf(const AngularSample& s) const;
+  /// The bins [first, last] along one axis (bins of side bin_ from `origin`, `count` of them) that
+  /// meet the interval [lo, hi]; first > last when none does.
+  std::pair<int, int> binSpan(double lo, double hi, double origin, int count) const {
+    return {std::max(0, static_cast<int>(std::floor((lo - origin) / bin_))),
+            std::min(count - 1, static_cast<int>(std::floor((hi - origin) / bin_)))};
+  }
 
   double bin_;
   double min_az_ = 0, max_az_ = 0, min_el_ = 0, max_el_ = 0;
