@@ -21,6 +21,15 @@ void ConditioningRendererDiagnostics::countCameraImage() {
   counters_.update([](Counts& counts) { ++counts.camera_images; });
 }
 
+void ConditioningRendererDiagnostics::countCameraImageDropped() {
+  counters_.update([](Counts& counts) { ++counts.camera_images_dropped; });
+}
+
+void ConditioningRendererDiagnostics::countLiveSkipped(int frames) {
+  counters_.update(
+      [&](Counts& counts) { counts.live_skipped += static_cast<unsigned long>(frames); });
+}
+
 void ConditioningRendererDiagnostics::countExport(ExportEnd end, int frames, double ms) {
   counters_.update([&](Counts& counts) {
     ++counts.exports[static_cast<std::size_t>(end)];
@@ -80,6 +89,8 @@ void ConditioningRendererDiagnostics::report(diagnostic_updater::DiagnosticStatu
     status.add("synced sets total", total.sets);
     status.add("camera images total", total.camera_images);
     status.add("published frames total", total.frames);
+    status.add("camera images skipped (newer ones waiting)", total.live_skipped);
+    status.add("camera images dropped (live-view queue full)", total.camera_images_dropped);
     status.add("keyframes total", total.keyframes);
     status.add("keyframe points", total.keyframe_points);
     status.addf("keyframe cloud (ms)", "%.1f", total.keyframe_cloud_ms);

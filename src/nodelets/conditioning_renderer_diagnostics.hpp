@@ -21,6 +21,10 @@ class ConditioningRendererDiagnostics {
   // Thread-safe: called from subscriber, frame and service callbacks.
   void countSet();
   void countCameraImage();
+  /// A camera image the live-view thread never saw (its queue was full).
+  void countCameraImageDropped();
+  /// Camera images recorded but not rendered: newer ones were waiting.
+  void countLiveSkipped(int frames);
   void countFault(ros_conversions::RendererFault fault);
   /// One frame rendered and published: splatting time, and the whole callback (conversion, tf,
   /// splatting, preview, publishing).
@@ -36,8 +40,8 @@ class ConditioningRendererDiagnostics {
   void report(diagnostic_updater::DiagnosticStatusWrapper& status);
 
   struct Counts {
-    unsigned long sets = 0, camera_images = 0, frames = 0, keyframes = 0, bursts = 0,
-                  burst_frames = 0;
+    unsigned long sets = 0, camera_images = 0, camera_images_dropped = 0, live_skipped = 0,
+                  frames = 0, keyframes = 0, bursts = 0, burst_frames = 0;
     // Recorded-trajectory exports by how they ended (ExportEnd).
     std::array<unsigned long, 4> exports{};
     double export_sum_ms = 0.0;

@@ -19,10 +19,14 @@
 #include <tf2_ros/transform_listener.h>
 #include <pluginlib/class_list_macros.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <deque>
 #include <memory>
 #include <mutex>
+#include <thread>
 
 #include "conditioning_renderer_diagnostics.hpp"
 #include "conditioning_renderer_inputs.hpp"
@@ -52,6 +56,10 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   void onInit() override;
   void connectCb();
   void onCameraImage(const sensor_msgs::ImageConstPtr& image);
+  /// The live-view thread: serves the camera images and depth sets the callbacks queued, in their
+  /// order, rendering only the newest of the camera images waiting (the others are recorded for
+  /// the export, counted as skipped).
+  void serveInputs();
   void onFrame(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::ImageConstPtr& mask, const sensor_msgs::CameraInfoConstPtr& info);
   rc::RendererStatus lookupCameraPose(const std::string& world_frame,
@@ -108,7 +116,24 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   std::unique_ptr<dynamic_reconfigure::Server<Config>> reconfigure_server_;
   boost::recursive_mutex reconfigure_mutex_;
 
-  // Keyframe and renderer, shared by the frame callback and the ~render service.
+  // Camera images and depth sets waiting for the live-view thread, in arrival order. The
+  // subscriber callbacks only queue them, so ROS's own queues never overflow while a frame
+  // renders or a keyframe is built (a dropped image would also be a pose the recorded export
+  // never gets). An entry with depth is a synchronized set, one without a camera image.
+  struct PendingInput {
+    sensor_msgs::ImageConstPtr image, depth, mask;
+    sensor_msgs::CameraInfoConstPtr info;
+    std::chrono::steady_clock::time_point arrival;
+  };
+  /// Queues `input`; false when the oldest camera image had to make room.
+  bool enqueue(PendingInput input);
+  std::mutex pending_mutex_;
+  std::condition_variable pending_cv_;
+  std::deque<PendingInput> pending_;
+  bool stop_input_thread_ = false;
+  std::thread input_thread_;
+
+  // Keyframe and renderer, shared by the frame callback, the live-view thread and the services.
   std::mutex state_mutex_;
   std::unique_ptr<RendererSession> session_;
   ThreadCountCached<PointSplatter> splatter_;
@@ -170,11 +195,18 @@ void ConditioningRendererNodelet::onInit() {
       boost::bind(&ConditioningRendererNodelet::onExportGoal, this, boost::placeholders::_1),
       false);
   export_server_->start();
+  input_thread_ = std::thread(&ConditioningRendererNodelet::serveInputs, this);
 }
 
 ConditioningRendererNodelet::~ConditioningRendererNodelet() {
   shutting_down_ = true;  // a running goal sees it at its next check and ends
   if (export_server_) export_server_->shutdown();
+  {
+    std::lock_guard<std::mutex> lock(pending_mutex_);
+    stop_input_thread_ = true;
+  }
+  pending_cv_.notify_all();
+  if (input_thread_.joinable()) input_thread_.join();
 }
 
 // Lazy subscription (depth_image_proc's idiom): inputs follow the presence of output subscribers,
@@ -193,25 +225,74 @@ void ConditioningRendererNodelet::connectCb() {
   diagnostics_.setSubscribed(wanted);
 }
 
+bool ConditioningRendererNodelet::enqueue(PendingInput input) {
+  bool dropped = false;
+  {
+    std::lock_guard<std::mutex> lock(pending_mutex_);
+    pending_.push_back(std::move(input));
+    // Bounded like the session's history: a thread stalled this long has lost the live view.
+    // Depth sets stay (each may be a keyframe); the oldest camera image goes.
+    if (pending_.size() > RendererSession::kHistoryFrames) {
+      const auto oldest_image = std::find_if(pending_.begin(), pending_.end(),
+                                             [](const PendingInput& p) { return !p.depth; });
+      if (oldest_image != pending_.end()) {
+        pending_.erase(oldest_image);
+        dropped = true;
+      }
+    }
+  }
+  pending_cv_.notify_one();
+  return !dropped;
+}
+
 void ConditioningRendererNodelet::onCameraImage(const sensor_msgs::ImageConstPtr& image) {
-  const auto arrival = std::chrono::steady_clock::now();
   diagnostics_.countCameraImage();
-  const Settings settings = settings_.get();
-  std::lock_guard<std::mutex> lock(state_mutex_);
-  count(session_->onCameraImage(*image, settings, arrival));
+  if (!enqueue({image, nullptr, nullptr, nullptr, std::chrono::steady_clock::now()})) {
+    diagnostics_.countCameraImageDropped();
+    NODELET_ERROR_THROTTLE(2.0, "camera image dropped: %zu inputs wait for the live view",
+                           RendererSession::kHistoryFrames);
+  }
 }
 
 void ConditioningRendererNodelet::onFrame(const sensor_msgs::ImageConstPtr& image,
                                           const sensor_msgs::ImageConstPtr& depth,
                                           const sensor_msgs::ImageConstPtr& mask,
                                           const sensor_msgs::CameraInfoConstPtr& info) {
-  const auto arrival = std::chrono::steady_clock::now();
   diagnostics_.countSet();
-  const Settings settings = settings_.get();
-  std::lock_guard<std::mutex> lock(state_mutex_);
-  const RendererStep step = session_->onInputSet(*image, *depth, *mask, *info, settings, arrival);
-  count(step);
-  if (!step.error.empty()) NODELET_ERROR_THROTTLE(2.0, "%s", step.error.c_str());
+  if (!enqueue({image, depth, mask, info, std::chrono::steady_clock::now()})) {
+    diagnostics_.countCameraImageDropped();
+    NODELET_ERROR_THROTTLE(2.0, "camera image dropped: %zu inputs wait for the live view",
+                           RendererSession::kHistoryFrames);
+  }
+}
+
+void ConditioningRendererNodelet::serveInputs() {
+  for (;;) {
+    std::deque<PendingInput> batch;
+    {
+      std::unique_lock<std::mutex> lock(pending_mutex_);
+      pending_cv_.wait(lock, [this] { return stop_input_thread_ || !pending_.empty(); });
+      if (stop_input_thread_) return;
+      batch.swap(pending_);
+    }
+    // Only the newest camera image of the batch is rendered live.
+    std::size_t newest_image = batch.size();
+    for (std::size_t i = 0; i < batch.size(); ++i)
+      if (!batch[i].depth) newest_image = i;
+    const Settings settings = settings_.get();
+    std::lock_guard<std::mutex> lock(state_mutex_);
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      const PendingInput& in = batch[i];
+      if (!in.depth) {
+        count(session_->onCameraImage(*in.image, settings, in.arrival, i == newest_image));
+        continue;
+      }
+      const RendererStep step =
+          session_->onInputSet(*in.image, *in.depth, *in.mask, *in.info, settings, in.arrival);
+      count(step);
+      if (!step.error.empty()) NODELET_ERROR_THROTTLE(2.0, "%s", step.error.c_str());
+    }
+  }
 }
 
 rc::RendererStatus ConditioningRendererNodelet::lookupCameraPose(const std::string& world_frame,
@@ -273,6 +354,7 @@ void ConditioningRendererNodelet::count(const RendererStep& step) {
     NODELET_DEBUG("keyframe at %.3f: %zu points", step.keyframe_stamp.toSec(),
                   step.keyframe_points);
   }
+  if (step.live_skipped > 0) diagnostics_.countLiveSkipped(step.live_skipped);
   for (const RendererStep::LiveFrame& frame : step.live_frames) {
     diagnostics_.countFrame(frame.render_ms, frame.frame_ms);
   }

@@ -48,7 +48,8 @@ RendererStep RendererSession::onInputSet(const sensor_msgs::Image& image,
 
 RendererStep RendererSession::onCameraImage(const sensor_msgs::Image& image,
                                             const ConditioningRendererSettings& settings,
-                                            std::chrono::steady_clock::time_point arrival) {
+                                            std::chrono::steady_clock::time_point arrival,
+                                            bool render_live) {
   RendererStep step;
   step.fault = rc::fromConversion(rc::validateImage(image), "image");
   if (!step.fault.ok()) return step;
@@ -69,7 +70,7 @@ RendererStep RendererSession::onCameraImage(const sensor_msgs::Image& image,
     frame.ground_truth = groundTruthAtRenderSize(bgr, settings.renderSize());
   }
   if (keyframe_ && frame.header.stamp >= keyframe_->input().header.stamp) {
-    serveCameraFrame(frame, settings, step, step.fault);
+    serveCameraFrame(frame, settings, step, step.fault, render_live);
   }
   history_.push_back(std::move(frame));
   while (history_.size() > kHistoryFrames)
@@ -81,10 +82,13 @@ RendererStep RendererSession::onCameraImage(const sensor_msgs::Image& image,
 /// why it could not.
 void RendererSession::serveCameraFrame(CameraFrame& frame,
                                        const ConditioningRendererSettings& settings,
-                                       RendererStep& step, rc::RendererStatus& fault) {
-  const bool live = settings.source == TrajectorySource::kTf;
+                                       RendererStep& step, rc::RendererStatus& fault,
+                                       bool render_live) {
+  const bool live = settings.source == TrajectorySource::kTf && !frame.rendered;
   const bool collecting = collector_.stage() == RecordedPoseCollector::Stage::kCollecting;
-  if (!(live && !frame.rendered) && !collecting) return;
+  if (live && !render_live) ++step.live_skipped;
+  const bool render = live && render_live;
+  if (!render && !collecting) return;  // a skipped frame needs no pose unless it is collected
   if (!frame.camera_to_world) {
     Eigen::Matrix4d pose;
     fault = io_.camera_pose(settings.world_frame, frame.header, pose);
@@ -94,7 +98,7 @@ void RendererSession::serveCameraFrame(CameraFrame& frame,
     }
     frame.camera_to_world = pose;
   }
-  if (live && !frame.rendered) renderLive(frame, settings, step);
+  if (render) renderLive(frame, settings, step);
   if (collecting) {
     collector_.cameraFrame(frame.header.stamp, *frame.camera_to_world, frame.ground_truth);
   }

@@ -91,8 +91,10 @@ class RendererSessionTest : public ::testing::Test {
                               std::chrono::steady_clock::now());
   }
   /// One camera image (the set's image) stamped `stamp` that arrived now.
-  mm::RendererStep camera(ros::Time stamp, const mm::ConditioningRendererSettings& s) {
-    return session.onCameraImage(stampedSet(stamp).image, s, std::chrono::steady_clock::now());
+  mm::RendererStep camera(ros::Time stamp, const mm::ConditioningRendererSettings& s,
+                          bool render_live = true) {
+    return session.onCameraImage(stampedSet(stamp).image, s, std::chrono::steady_clock::now(),
+                                 render_live);
   }
   /// The first set, stamped 10 s: always the keyframe.
   mm::RendererStep firstKeyframe(const mm::ConditioningRendererSettings& s) {
@@ -255,6 +257,37 @@ TEST_F(RendererSessionTest, ExportCollectsTheCameraPosesAfterANewKeyframe) {
     EXPECT_EQ(gt.size(), cv::Size(16, 12));
   EXPECT_EQ(job.keyframe.header.stamp, ros::Time(11, 0));
   EXPECT_EQ(job.cloud.size(), 6u * 8u - 1u);
+}
+
+TEST_F(RendererSessionTest, ABehindLiveViewSkipsToTheNewestImageButTheExportKeepsEveryPose) {
+  const auto s = settings(mm::TrajectorySource::kTf);
+  firstKeyframe(s);
+  // Three images waited while the renderer was busy: the two older ones are skipped (no render,
+  // no tf lookup), the newest is rendered.
+  const std::size_t lookups = node.pose_lookups.size();
+  const mm::RendererStep old1 = camera(ros::Time(10, 100000000), s, false);
+  const mm::RendererStep old2 = camera(ros::Time(10, 200000000), s, false);
+  EXPECT_EQ(old1.live_skipped, 1);
+  EXPECT_EQ(old2.live_skipped, 1);
+  EXPECT_TRUE(old1.live_frames.empty() && old2.live_frames.empty());
+  EXPECT_EQ(node.pose_lookups.size(), lookups);
+  const mm::RendererStep newest = camera(ros::Time(10, 300000000), s, true);
+  EXPECT_EQ(newest.live_skipped, 0);
+  EXPECT_EQ(newest.live_frames.size(), 1u);
+  EXPECT_EQ(node.published, (std::vector<ros::Time>{ros::Time(10, 300000000)}));
+
+  // While an export collects, a skipped image still gives its pose.
+  mm::RecordedExportRequest request;
+  request.num_poses = 3;
+  request.num_frames = 5;
+  request.output_dir = "/unused";
+  ASSERT_FALSE(session.startExport(request));
+  expectNewKeyframe(step(stampedSet(ros::Time(11, 0)), s), ros::Time(11, 0));
+  EXPECT_EQ(session.exportCollector().collected(), 1);
+  EXPECT_EQ(camera(ros::Time(11, 100000000), s, false).live_skipped, 1);
+  EXPECT_EQ(session.exportCollector().collected(), 2);
+  camera(ros::Time(11, 200000000), s, true);
+  EXPECT_EQ(session.exportCollector().stage(), mm::RecordedPoseCollector::Stage::kComplete);
 }
 
 TEST_F(RendererSessionTest, ExportAbortsOnABagLoopOrAMissingTransform) {

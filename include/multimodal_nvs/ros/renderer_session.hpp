@@ -63,6 +63,8 @@ struct RendererStep {
   std::vector<LiveFrame> live_frames;
   /// Why camera frames (other than the step's own input) were not rendered, e.g. no tf.
   std::vector<ros_conversions::RendererStatus> frame_faults;
+  /// Camera frames recorded (pose, export) but not rendered because newer ones were waiting.
+  int live_skipped = 0;
 
   bool burst = false;  ///< the preset burst was rendered and published (and exported)
   int burst_frames = 0;
@@ -96,9 +98,13 @@ class RendererSession {
   /// One camera image that arrived at `arrival`. In tf mode it is rendered from the keyframe into
   /// the camera pose at its stamp (tf); before the first keyframe, or while the keyframe is newer
   /// than it (a bag loop), it waits in the history. A stamp that goes back clears the history.
+  /// With `render_live` false (newer images are already waiting: the renderer is behind) the frame
+  /// is recorded as usual (its pose, the export's collection) but not rendered: the live view
+  /// skips to the newest image instead of falling further behind, and the export loses no pose.
   RendererStep onCameraImage(const sensor_msgs::Image& image,
                              const ConditioningRendererSettings& settings,
-                             std::chrono::steady_clock::time_point arrival);
+                             std::chrono::steady_clock::time_point arrival,
+                             bool render_live = true);
 
   /// Starts a recorded-trajectory export: the next depth set newer than every camera frame seen so
   /// far becomes the keyframe and the camera poses that follow are collected. The error when the
@@ -131,7 +137,8 @@ class RendererSession {
     std::chrono::steady_clock::time_point arrival;
   };
   void serveCameraFrame(CameraFrame& frame, const ConditioningRendererSettings& settings,
-                        RendererStep& step, ros_conversions::RendererStatus& fault);
+                        RendererStep& step, ros_conversions::RendererStatus& fault,
+                        bool render_live = true);
   void renderLive(const CameraFrame& frame, const ConditioningRendererSettings& settings,
                   RendererStep& step);
   void serveHistory(const ConditioningRendererSettings& settings, RendererStep& step);
