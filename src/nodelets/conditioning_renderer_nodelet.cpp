@@ -57,8 +57,8 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   void connectCb();
   void onCameraImage(const sensor_msgs::ImageConstPtr& image);
   /// The live-view thread: serves the camera images and depth sets the callbacks queued, in their
-  /// order, rendering only the newest of the camera images waiting (the others are recorded for
-  /// the export, counted as skipped).
+  /// order, rendering only the newest max_live_backlog of the camera images waiting (the others
+  /// are recorded for the export, counted as skipped).
   void serveInputs();
   void onFrame(const sensor_msgs::ImageConstPtr& image, const sensor_msgs::ImageConstPtr& depth,
                const sensor_msgs::ImageConstPtr& mask, const sensor_msgs::CameraInfoConstPtr& info);
@@ -85,6 +85,7 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   int queue_size_ = 5;
   int camera_queue_size_ = 5;
   int publisher_queue_size_ = 10;
+  int max_live_backlog_ = 8;
   ros::Duration tf_timeout_;
 
   // Inputs (exact-time sync), subscribed only while an output has a subscriber or a preset burst
@@ -147,6 +148,7 @@ void ConditioningRendererNodelet::onInit() {
   queue_size_ = pnh.param("queue_size", 5);
   camera_queue_size_ = pnh.param("camera_queue_size", 5);
   publisher_queue_size_ = pnh.param("publisher_queue_size", 10);
+  max_live_backlog_ = std::max(1, pnh.param("max_live_backlog", 8));
   tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
@@ -275,16 +277,20 @@ void ConditioningRendererNodelet::serveInputs() {
       if (stop_input_thread_) return;
       batch.swap(pending_);
     }
-    // Only the newest camera image of the batch is rendered live.
-    std::size_t newest_image = batch.size();
-    for (std::size_t i = 0; i < batch.size(); ++i)
-      if (!batch[i].depth) newest_image = i;
+    // Only the newest max_live_backlog_ camera images of the batch are rendered live.
+    std::size_t images_after = 0;
+    std::vector<bool> render(batch.size(), false);
+    for (std::size_t i = batch.size(); i-- > 0;) {
+      if (batch[i].depth) continue;
+      render[i] = images_after < static_cast<std::size_t>(max_live_backlog_);
+      ++images_after;
+    }
     const Settings settings = settings_.get();
     std::lock_guard<std::mutex> lock(state_mutex_);
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const PendingInput& in = batch[i];
       if (!in.depth) {
-        count(session_->onCameraImage(*in.image, settings, in.arrival, i == newest_image));
+        count(session_->onCameraImage(*in.image, settings, in.arrival, render[i]));
         continue;
       }
       const RendererStep step =
