@@ -30,6 +30,9 @@ ALL_FUZZERS="fuzz_cloud fuzz_kitti_calib fuzz_camera_info fuzz_vod_pose fuzz_bin
 read -r -a fuzzers <<<"${FUZZERS:-$ALL_FUZZERS}"
 
 mkdir -p "$BUILD"
+# A build directory inside the package: catkin's tools (catkin_lint, a workspace's package search)
+# must not read it as sources.
+touch "$BUILD/CATKIN_IGNORE"
 echo "[fuzz] building the harnesses into $BUILD (clang, ASan + UBSan, $JOBS jobs)"
 if ! cmake -S fuzz -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   >"$BUILD/configure.log" 2>&1; then
