@@ -12,6 +12,15 @@ find_library(MMNVS_GMP_LIBRARY gmp REQUIRED)
 target_link_libraries(multimodal_nvs_core PRIVATE yaml-cpp ${MMNVS_GMP_LIBRARY})
 set_target_properties(multimodal_nvs_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 
+# PCD files go through PCL's reader. Only pcl_common and pcl_io, by file: the pcl_io target's
+# interface would add VTK, OpenNI and libusb to every program that links the core. One file includes
+# PCL's headers (they are slow to compile), as system headers (PCL's own warnings are not ours).
+find_package(PCL 1.10 REQUIRED COMPONENTS common io)
+set(MMNVS_PCL_SOURCES src/core/io/pcd_reader.cpp)
+mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -isystem ${PCL_COMMON_INCLUDE_DIR}
+  SOURCES ${MMNVS_PCL_SOURCES})
+target_link_libraries(multimodal_nvs_core PRIVATE ${PCL_IO_LIBRARY} ${PCL_COMMON_LIBRARY})
+
 # Files that need flags of their own (the package default is -ffp-contract=off, for parity).
 # The per-pixel GP prediction needs no bit-level parity with the reference, so it may use fused
 # multiply-add.

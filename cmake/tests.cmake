@@ -16,6 +16,10 @@ endfunction()
 
 file(GLOB_RECURSE MMNVS_CORE_TEST_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/test/core/*.cpp)
 mmnvs_add_gtest(test_core ${MMNVS_CORE_TEST_SOURCES})
+# The PCD reader's test writes its fixtures with PCL's own writer.
+mmnvs_source_flags(TARGET test_core OPTIONS -isystem ${PCL_COMMON_INCLUDE_DIR}
+  SOURCES test/core/io/test_pcd_reader.cpp)
+target_link_libraries(test_core ${PCL_IO_LIBRARY} ${PCL_COMMON_LIBRARY})
 # test_synthetic_scene runs make_synthetic_scene as a process.
 add_dependencies(test_core make_synthetic_scene)
 

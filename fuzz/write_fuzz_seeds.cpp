@@ -1,6 +1,7 @@
 // Writes the seed corpora of the harnesses: `write_fuzz_seeds DIR` creates DIR/<harness>/ with
 // valid inputs of each kind, made with the package's own writers where it has them, so that the
 // fuzzers start from files the readers accept instead of discovering every header from scratch.
+#include <pcl/io/pcd_io.h>
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -8,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <sstream>
 #include <vector>
 
 #include "fuzz_input.hpp"
@@ -175,7 +177,7 @@ void pcdSeeds(const std::string& dir) {
   // float64 x, y, z after a multi-count field, organised.
   std::string f8 =
       "VERSION 0.7\nFIELDS rgb x y z\nSIZE 1 8 8 8\nTYPE U F F F\nCOUNT 4 1 1 1\n"
-      "WIDTH 2\nHEIGHT 1\nDATA binary\n";
+      "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary\n";
   for (int i = 0; i < 2; ++i) {
     f8.append("\x10\x20\x30\x40", 4);
     for (int a = 0; a < 3; ++a) {
@@ -184,6 +186,32 @@ void pcdSeeds(const std::string& dir) {
     }
   }
   writeFile(dir + "/binary_rgb_f8", f8);
+  // binary_compressed as PCL writes it (fields one after another, LZF): an organised 4 x 2 cloud
+  // with a missing return, and 40 points whose repeats give LZF back references.
+  for (const std::uint32_t width : {4u, 40u}) {
+    pcl::PCLPointCloud2 cloud;
+    cloud.width = width;
+    cloud.height = width == 4 ? 2 : 1;
+    const char* names[] = {"x", "y", "z", "intensity"};
+    for (std::uint32_t f = 0; f < 4; ++f) {
+      pcl::PCLPointField field;
+      field.name = names[f], field.offset = 4 * f, field.count = 1;
+      field.datatype = pcl::PCLPointField::FLOAT32;
+      cloud.fields.push_back(field);
+    }
+    cloud.point_step = 16;
+    cloud.row_step = 16 * cloud.width;
+    for (std::uint32_t i = 0; i < 4 * cloud.width * cloud.height; ++i) {
+      const float v = i == 5 ? std::numeric_limits<float>::quiet_NaN() : 0.5f * (i % 12);
+      const auto* p = reinterpret_cast<const std::uint8_t*>(&v);
+      cloud.data.insert(cloud.data.end(), p, p + 4);
+    }
+    std::ostringstream out;
+    if (pcl::PCDWriter().writeBinaryCompressed(out, cloud) != 0) {
+      throw std::runtime_error("PCL could not write the binary_compressed seed");
+    }
+    writeFile(dir + "/binary_compressed_" + std::to_string(width), out.str());
+  }
 }
 
 void npySeeds(const std::string& dir) {

@@ -5,7 +5,9 @@
 # build_fuzz/artifacts/<harness>/. One summary line per harness, then a final line.
 #   scripts/fuzz.sh [SECONDS_PER_HARNESS]
 # Environment: FUZZ_BUILD_DIR (build_fuzz), JOBS (2), FUZZ_TIMEOUT per input in s (10),
-# FUZZ_RSS_MB (2048), FUZZERS (space-separated subset of the harnesses).
+# FUZZ_RSS_MB (2048), FUZZERS (space-separated subset of the harnesses), FUZZ_RUNS (stop each
+# harness after this many inputs instead; SECONDS_PER_HARNESS stays its time limit, and a harness
+# that stops on time short of FUZZ_RUNS fails).
 set -uo pipefail
 SECONDS_PER_HARNESS=${1:-60}
 if ! [[ "$SECONDS_PER_HARNESS" =~ ^[0-9]+$ ]] || ((SECONDS_PER_HARNESS == 0)); then
@@ -19,10 +21,18 @@ BUILD=${FUZZ_BUILD_DIR:-build_fuzz}
 JOBS=${JOBS:-2}
 TIMEOUT=${FUZZ_TIMEOUT:-10}
 RSS_MB=${FUZZ_RSS_MB:-2048}
+RUNS=${FUZZ_RUNS:-}
+if [[ -n "$RUNS" ]] && ! [[ "$RUNS" =~ ^[1-9][0-9]*$ ]]; then
+  echo "scripts/fuzz.sh: FUZZ_RUNS must be a positive whole number" >&2
+  exit 2
+fi
 ALL_FUZZERS="fuzz_cloud fuzz_kitti_calib fuzz_camera_info fuzz_vod_pose fuzz_bin fuzz_pcd fuzz_npy"
 read -r -a fuzzers <<<"${FUZZERS:-$ALL_FUZZERS}"
 
 mkdir -p "$BUILD"
+# A build directory inside the package: catkin's tools (catkin_lint, a workspace's package search)
+# must not read it as sources.
+touch "$BUILD/CATKIN_IGNORE"
 echo "[fuzz] building the harnesses into $BUILD (clang, ASan + UBSan, $JOBS jobs)"
 if ! cmake -S fuzz -B "$BUILD" -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   >"$BUILD/configure.log" 2>&1; then
@@ -55,10 +65,14 @@ for fuzzer in "${fuzzers[@]}"; do
   mkdir -p "$corpus" "$artifacts" "$BUILD/logs"
   dict=()
   [[ -f "fuzz/$fuzzer.dict" ]] && dict=("-dict=fuzz/$fuzzer.dict")
+  runs=()
+  [[ -n "$RUNS" ]] && runs=("-runs=$RUNS")
+  started=$SECONDS
   "$BUILD/$fuzzer" -max_total_time="$SECONDS_PER_HARNESS" -timeout="$TIMEOUT" \
     -rss_limit_mb="$RSS_MB" -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" \
-    "$corpus" "$BUILD/seeds/$fuzzer" >"$log" 2>&1
+    "${runs[@]}" "$corpus" "$BUILD/seeds/$fuzzer" >"$log" 2>&1
   rc=$?
+  elapsed=$((SECONDS - started))
   execs=$(final_stat number_of_executed_units "$log")
   rate=$(final_stat average_exec_per_sec "$log")
   rss=$(final_stat peak_rss_mb "$log")
@@ -67,7 +81,12 @@ for fuzzer in "${fuzzers[@]}"; do
   cov=$(sed -nE 's/.* cov: ([0-9]+).*/\1/p' <<<"$status")
   ft=$(sed -nE 's/.* ft: ([0-9]+).*/\1/p' <<<"$status")
   corp=$(sed -nE 's/.* corp: ([0-9]+)\/.*/\1/p' <<<"$status")
-  figures="${execs:-?} execs (${rate:-?}/s), cov ${cov:-?}, ft ${ft:-?}, corpus ${corp:-?}, peak RSS ${rss:-?} MB"
+  figures="${execs:-?} execs in ${elapsed} s (${rate:-?}/s), cov ${cov:-?}, ft ${ft:-?}, corpus ${corp:-?}, peak RSS ${rss:-?} MB"
+  if ((rc == 0)) && [[ -n "$RUNS" ]] && ((${execs:-0} < RUNS)); then
+    failed=$((failed + 1))
+    echo "[fuzz] $fuzzer: FAILED (time limit before $RUNS runs), $figures; log: $log"
+    continue
+  fi
   if ((rc == 0)); then
     echo "[fuzz] $fuzzer: ok, $figures"
     continue
@@ -82,5 +101,7 @@ for fuzzer in "${fuzzers[@]}"; do
   grep -E 'ERROR:|runtime error:|invariant violated|SUMMARY:' "$log" | head -n 5 | sed 's/^/    /'
 done
 
-echo "fuzz: ${#fuzzers[@]} harnesses x ${SECONDS_PER_HARNESS} s, $((${#fuzzers[@]} - failed)) ok, $failed failed"
+budget="${SECONDS_PER_HARNESS} s"
+[[ -n "$RUNS" ]] && budget="$RUNS runs (at most ${SECONDS_PER_HARNESS} s)"
+echo "fuzz: ${#fuzzers[@]} harnesses x ${budget}, $((${#fuzzers[@]} - failed)) ok, $failed failed"
 ((failed == 0))

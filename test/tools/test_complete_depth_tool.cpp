@@ -36,7 +36,52 @@ void writeScene() {
                         {10, 0, 0, 1, 0, 0, 0, 12, 1, 0.5, 1, 0, 0, 0, 8, -1, -0.5, 1, 0, 0, 0});
 }
 
+/// writeScene's three points as a binary_compressed PCD: fields stored one after another (all x,
+/// then all y, then all z), LZF made of literal runs only (a control byte n - 1, then n <= 32
+/// bytes), which every LZF decoder reads. `uncompressed` overrides the stored size word.
+std::string compressedPcd(std::uint32_t uncompressed = 36) {
+  const float xyz[3][3] = {{10, 12, 8}, {0, 1, -1}, {0, 0.5f, -0.5f}};
+  const std::string raw(reinterpret_cast<const char*>(xyz), sizeof xyz);
+  std::string lzf;
+  for (std::size_t at = 0; at < raw.size(); at += 32) {
+    const std::string run = raw.substr(at, 32);
+    lzf += static_cast<char>(run.size() - 1) + run;
+  }
+  const std::uint32_t compressed = static_cast<std::uint32_t>(lzf.size());
+  std::string pcd =
+      "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 3\n"
+      "HEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA binary_compressed\n";
+  pcd.append(reinterpret_cast<const char*>(&compressed), 4);
+  pcd.append(reinterpret_cast<const char*>(&uncompressed), 4);
+  return pcd + lzf;
+}
+
 }  // namespace
+
+TEST(CompleteDepthTool, ABinaryCompressedPcdGivesTheSameDepthAsItsBin) {
+  writeScene();
+  std::ofstream(dir() + "cd_points.pcd", std::ios::binary) << compressedPcd();
+  const std::string rest = " --calib " + dir() + "cd_calib.txt --image-size 120 160 --stride 2";
+  const auto bin =
+      runTool("--points " + dir() + "cd_points.bin" + rest + " --output " + dir() + "cd_from_bin");
+  const auto pcd =
+      runTool("--points " + dir() + "cd_points.pcd" + rest + " --output " + dir() + "cd_from_pcd");
+  ASSERT_EQ(bin.exit_code, 0) << bin.output;
+  ASSERT_EQ(pcd.exit_code, 0) << pcd.output;
+  EXPECT_NE(pcd.output.find("\"points_in_view\": 3"), std::string::npos) << pcd.output;
+  for (const char* array : {"_depth.npy", "_variance.npy", "_valid.npy"}) {
+    EXPECT_EQ(io::readNpy(dir() + "cd_from_bin" + array).data,
+              io::readNpy(dir() + "cd_from_pcd" + array).data)
+        << array;
+  }
+  // A corrupt size word: exit 1, the file and the reason named.
+  std::ofstream(dir() + "cd_corrupt.pcd", std::ios::binary) << compressedPcd(37);
+  const auto bad = runTool("--points " + dir() + "cd_corrupt.pcd" + rest);
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_NE(bad.output.find(dir() + "cd_corrupt.pcd: PCD binary_compressed data is corrupt"),
+            std::string::npos)
+      << bad.output;
+}
 
 TEST(CompleteDepthTool, WritesTheReferenceLayoutAndOneJsonLine) {
   writeScene();

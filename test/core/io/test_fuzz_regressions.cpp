@@ -29,7 +29,7 @@ const char* kIdentity = "[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]";
 /// A PCD header with fields x y z a, COUNT of `a` as given, and one ascii row.
 std::string pcdWithCount(const std::string& count_of_a, const std::string& width = "1") {
   return "FIELDS x y z a\nSIZE 4 4 4 1\nTYPE F F F U\nCOUNT 1 1 1 " + count_of_a + "\nWIDTH " +
-         width + "\nHEIGHT 1\nDATA ascii\n1 2 3 4\n";
+         width + "\nHEIGHT 1\nPOINTS 1\nDATA ascii\n1 2 3 4\n";
 }
 
 std::string npyWithShape(const std::string& shape) {
@@ -74,36 +74,39 @@ TEST(FuzzRegression, DeeplyNestedPoseJsonIsRejectedNotAStackOverflow) {
 
 // fuzz_pcd: COUNT near INT_MAX after x, y, z made the running column sum overflow int (signed
 // overflow, UB); values that do not fit in int were silently truncated ("4294967297" read as 1) and
-// "-1" was read as 2^64 - 1.
+// "-1" was read as 2^64 - 1. (PCL's reader, now behind checkPcdLayout, keeps point sizes in int.)
 TEST(FuzzRegression, PcdCountsOutOfRangeAreRejected) {
-  EXPECT_NE(inputErrorOf([] { io::parsePcd(pcdWithCount("2147483647"), "c.pcd"); }).find("short"),
+  EXPECT_NE(inputErrorOf([] {
+              io::parsePcd(pcdWithCount("2147483647"), "c.pcd");
+            }).find("PCD point is too large"),
             std::string::npos);
   EXPECT_NE(inputErrorOf([] {
               io::parsePcd(pcdWithCount("2147483648"), "c.pcd");
-            }).find("bad PCD COUNT '2147483648'"),
+            }).find("bad COUNT '2147483648'"),
             std::string::npos);
   EXPECT_NE(
-      inputErrorOf([] { io::parsePcd(pcdWithCount("4294967297"), "c.pcd"); }).find("bad PCD COUNT"),
+      inputErrorOf([] { io::parsePcd(pcdWithCount("4294967297"), "c.pcd"); }).find("bad COUNT"),
       std::string::npos);
-  EXPECT_NE(
-      inputErrorOf([] { io::parsePcd(pcdWithCount("1", "-1"), "c.pcd"); }).find("bad PCD WIDTH"),
-      std::string::npos);
+  EXPECT_NE(inputErrorOf([] { io::parsePcd(pcdWithCount("1", "-1"), "c.pcd"); }).find("bad WIDTH"),
+            std::string::npos);
   EXPECT_NE(inputErrorOf([] {
               io::parsePcd(pcdWithCount("1", "99999999999999999999"), "c.pcd");
-            }).find("bad PCD WIDTH"),
+            }).find("bad WIDTH"),
             std::string::npos);
   const auto points = io::parsePcd(pcdWithCount("1"), "c.pcd");
   ASSERT_EQ(points.size(), 1u);
   EXPECT_EQ(points[0], Eigen::Vector3f(1, 2, 3));
 }
 
-// fuzz_pcd: WIDTH * HEIGHT without POINTS wrapped around (2^32 * 2^32 = 0 points, an "empty"
-// cloud).
+// fuzz_pcd: WIDTH * HEIGHT wrapped around (2^32 * 2^32 = 0 points, an "empty" cloud). PCL's reader
+// compares WIDTH * HEIGHT with POINTS in 32 bits, so the product is checked in 64 bits first.
 TEST(FuzzRegression, PcdWidthTimesHeightOverflowIsRejected) {
   const std::string pcd =
-      "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 4294967296\nHEIGHT 4294967296\n"
+      "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 65536\nHEIGHT 65536\nPOINTS 0\n"
       "DATA binary\n";
-  EXPECT_NE(inputErrorOf([&] { io::parsePcd(pcd, "o.pcd"); }).find("WIDTH * HEIGHT overflows"),
+  EXPECT_NE(inputErrorOf([&] {
+              io::parsePcd(pcd, "o.pcd");
+            }).find("WIDTH x HEIGHT (65536 x 65536) is not POINTS (0)"),
             std::string::npos);
 }
 

@@ -1,5 +1,5 @@
-// File formats: npy round trip, KITTI calibration, point files (bin layouts, PCD ascii/binary),
-// and every malformed input raising InputError with the file named.
+// File formats: npy round trip, KITTI calibration, point files (bin layouts; PCD files in
+// test_pcd_reader.cpp), and every malformed input raising InputError with the file named.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -101,33 +101,6 @@ TEST(PointFiles, BinLayoutsAndSizeChecks) {
   EXPECT_NE(inputErrorOf([] {
               io::readPoints(tempPath("nope.bin"), io::PointFormat::kXyz);
             }).find("cannot open"),
-            std::string::npos);
-}
-
-TEST(PointFiles, PcdAsciiAndBinary) {
-  const std::string ascii =
-      "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
-      "COUNT 1 1 1 1\nWIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA ascii\n1 2 3 9\n4 5 6 9\n";
-  const auto a = io::parsePcd(ascii, "a.pcd");
-  ASSERT_EQ(a.size(), 2u);
-  EXPECT_EQ(a[1], Eigen::Vector3f(4, 5, 6));
-  std::string binary =
-      "FIELDS intensity x y z\nSIZE 4 8 8 8\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 1\nHEIGHT 1\n"
-      "POINTS 1\nDATA binary\n";
-  const float intensity = 1.0f;
-  const double xyz[3] = {-1.5, 2.5, 8.0};
-  binary.append(reinterpret_cast<const char*>(&intensity), 4);
-  binary.append(reinterpret_cast<const char*>(xyz), 24);
-  const auto b = io::parsePcd(binary, "b.pcd");
-  ASSERT_EQ(b.size(), 1u);
-  EXPECT_EQ(b[0], Eigen::Vector3f(-1.5f, 2.5f, 8.0f));
-  EXPECT_NE(inputErrorOf([&] {
-              io::parsePcd(binary.substr(0, binary.size() - 4), "c.pcd");
-            }).find("truncated"),
-            std::string::npos);
-  EXPECT_NE(inputErrorOf([] {
-              io::parsePcd("FIELDS a b\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nDATA ascii\n", "d.pcd");
-            }).find("lacks x"),
             std::string::npos);
 }
 
