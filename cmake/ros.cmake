@@ -23,7 +23,8 @@ foreach(node_source ${MMNVS_NODE_SOURCES})
   get_filename_component(node ${node_source} NAME_WE)
   add_executable(${node} ${node_source})
   target_include_directories(${node} SYSTEM PRIVATE ${catkin_INCLUDE_DIRS})
-  target_link_libraries(${node} ${catkin_LIBRARIES})
+  # The core only for retainFreedMemory (the process-wide allocator setting a node may make).
+  target_link_libraries(${node} multimodal_nvs_core ${catkin_LIBRARIES})
   # The node finds the plugin at run time; building it alone must still build the plugin.
   add_dependencies(${node} multimodal_nvs_nodelets)
   install(TARGETS ${node} RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})

@@ -71,14 +71,18 @@ int main(int argc, char** argv) {
 
   std::mutex mutex;
   std::map<ros::Time, ros::WallTime> sent;
+  std::map<ros::Time, int> sent_index;
+  std::map<int, double> received_ms;  // frame index -> latency
   std::vector<double> latency_ms;
   std::map<std::string, std::string> diagnostics;
   ros::Subscriber out = nh.subscribe<sensor_msgs::Image>(
       "conditioning/image", 10, [&](const sensor_msgs::ImageConstPtr& msg) {
         std::lock_guard<std::mutex> lock(mutex);
         auto it = sent.find(msg->header.stamp);
-        if (it != sent.end())
+        if (it != sent.end()) {
           latency_ms.push_back((ros::WallTime::now() - it->second).toSec() * 1e3);
+          received_ms[sent_index[msg->header.stamp]] = latency_ms.back();
+        }
       });
   ros::Subscriber preview_sub;
   if (preview) {
@@ -121,6 +125,7 @@ int main(int argc, char** argv) {
     {
       std::lock_guard<std::mutex> lock(mutex);
       sent[stamp] = ros::WallTime::now();
+      sent_index[stamp] = i;
     }
     image_pub.publish(image);
     if (i % depth_every == 0) {
@@ -133,6 +138,15 @@ int main(int argc, char** argv) {
   ros::WallDuration(3.0).sleep();
   std::lock_guard<std::mutex> lock(mutex);
   std::sort(latency_ms.begin(), latency_ms.end());
+  // Which frames never came back, and the latency of the first ones (start-up stalls show there).
+  std::string missing, first;
+  for (int i = 0; i < frames; ++i) {
+    auto it = received_ms.find(i);
+    if (it == received_ms.end()) missing += (missing.empty() ? "" : ", ") + std::to_string(i);
+    if (i < 12)
+      first += (first.empty() ? "" : ", ") +
+               (it == received_ms.end() ? std::string("null") : std::to_string(int(it->second)));
+  }
   const auto pct = [&](double p) {
     return latency_ms.empty() ? 0.0 : latency_ms[std::size_t(p * (latency_ms.size() - 1))];
   };
@@ -140,10 +154,13 @@ int main(int argc, char** argv) {
       "{\"image\": [%d, %d], \"depth_stride\": %d, \"sent\": %d, \"received\": %zu, "
       "\"latency_ms\": {\"median\": %.1f, \"p90\": %.1f, \"max\": %.1f}, "
       "\"node_render_mean_ms\": \"%s\", \"node_frame_mean_ms\": \"%s\", \"keyframe_points\": "
-      "\"%s\", \"keyframe_cloud_ms\": \"%s\", \"preview\": %s, \"rate_hz\": %g, \"depth_every\": %d}\n",
+      "\"%s\", \"keyframe_cloud_ms\": \"%s\", \"preview\": %s, \"rate_hz\": %g, \"depth_every\": "
+      "%d, \"missing\": [%s], \"first_latencies_ms\": [%s], "
+      "\"node_camera_images\": \"%s\"}\n",
       h, w, s, frames, latency_ms.size(), pct(0.5), pct(0.9), pct(1.0),
       diagnostics["render mean since start (ms)"].c_str(),
       diagnostics["frame mean since start (ms)"].c_str(), diagnostics["keyframe points"].c_str(),
-      diagnostics["keyframe cloud (ms)"].c_str(), preview ? "true" : "false", rate, depth_every);
+      diagnostics["keyframe cloud (ms)"].c_str(), preview ? "true" : "false", rate, depth_every,
+      missing.c_str(), first.c_str(), diagnostics["camera images total"].c_str());
   return 0;
 }

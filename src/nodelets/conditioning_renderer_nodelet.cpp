@@ -75,7 +75,7 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
 
   // Static parameters (read once in onInit).
   int queue_size_ = 5;
-  int camera_queue_size_ = 2;
+  int camera_queue_size_ = 5;
   int publisher_queue_size_ = 10;
   ros::Duration tf_timeout_;
 
@@ -120,7 +120,7 @@ void ConditioningRendererNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   queue_size_ = pnh.param("queue_size", 5);
-  camera_queue_size_ = pnh.param("camera_queue_size", 2);
+  camera_queue_size_ = pnh.param("camera_queue_size", 5);
   publisher_queue_size_ = pnh.param("publisher_queue_size", 10);
   tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
 

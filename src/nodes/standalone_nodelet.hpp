@@ -6,12 +6,18 @@
 
 #include <string>
 
+#include "multimodal_nvs/core/common/retain_freed_memory.hpp"
+
 namespace multimodal_nvs {
 
 /// Initialises ROS as `default_name` (a remapped __name wins), loads `nodelet_type` (found through
 /// pluginlib at run time) and spins; returns main()'s exit code.
 inline int runStandaloneNodelet(int argc, char** argv, const char* default_name,
                                 const std::string& nodelet_type) {
+  // This process hosts only our nodelet, so the process-wide allocator setting is ours to make:
+  // every message (a 1936x1216 RGB image is 7 MB) is deserialised into a fresh buffer, which
+  // glibc would otherwise mmap and page-fault in again for each message. Before ROS starts threads.
+  retainFreedMemory();
   ros::init(argc, argv, default_name);
   nodelet::Loader loader(false);  // no manager services: this process hosts exactly one nodelet
   const nodelet::M_string remappings = ros::names::getRemappings();

@@ -149,7 +149,7 @@ TEST_F(RenderConditioningTool, PresetWithGen3cExportWritesTheDocumentedFolder) {
     std::snprintf(name, sizeof name, "%03d", i);
     const cv::Mat frame = cv::imread(out + "/frames/" + name + ".png", cv::IMREAD_UNCHANGED);
     const cv::Mat mask = cv::imread(out + "/masks/" + name + ".png", cv::IMREAD_UNCHANGED);
-    const cv::Mat preview = cv::imread(out + "/preview/" + name + ".png", cv::IMREAD_UNCHANGED);
+    const cv::Mat preview = cv::imread(out + "/preview/" + name + ".jpg", cv::IMREAD_UNCHANGED);
     ASSERT_FALSE(frame.empty() || mask.empty() || preview.empty()) << "frame " << i;
     EXPECT_EQ(frame.size(), cv::Size(64, 48));
     EXPECT_EQ(preview.size(), cv::Size(64, 48));
