@@ -30,9 +30,9 @@ if [[ -z "${MMNVS_RVIZ_XVFB:-}" ]]; then
   # A private X server for the run (rviz renders with Mesa's software OpenGL there). Without
   # QT_X11_NO_MITSHM Qt's widgets stay black in Xvfb's screenshots (only OpenGL views show).
   # Mesa's softpipe instead of its default llvmpipe: on a loaded machine rviz died at start-up
-  # (SIGSEGV or SIGABRT, 7 of 10 runs with four busy loops on 2 cores), every core dump inside
-  # llvmpipe's LLVM 15 shader JIT (MCJIT, FoldingSet, malloc's "invalid pointer"); with softpipe,
-  # which has no JIT, 3 of 3 such runs passed. softpipe is slower but draws rviz's few frames here.
+  # (SIGSEGV or SIGABRT, 8 of 12 runs with four busy loops on 2 cores); 3 of 4 core dumps were
+  # inside llvmpipe's LLVM 15 shader JIT (MCJIT, FoldingSet, malloc's "invalid pointer"), the 4th
+  # in Qt's painting on a corrupt heap; with softpipe, which has no JIT, 6 of 6 such runs passed. softpipe is slower but draws rviz's few frames here.
   # A crash is still retried (a second line of defence, RVIZ_ATTEMPTS runs in a fresh X server).
   export GALLIUM_DRIVER=${GALLIUM_DRIVER:-softpipe} LIBGL_ALWAYS_SOFTWARE=1
   for ((attempt = 1; attempt <= ${RVIZ_ATTEMPTS:-2}; attempt++)); do
