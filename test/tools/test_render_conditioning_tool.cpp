@@ -14,6 +14,7 @@
 #include <fstream>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/videoio.hpp>
 #include <set>
 #include <sstream>
 #include <string>
@@ -187,6 +188,38 @@ TEST_F(RenderConditioningTool, PresetWithGen3cExportWritesTheDocumentedFolder) {
   EXPECT_LT(holes, 4 * plane / 2);
   EXPECT_TRUE(fileExists(g + "input_image.png"));
   EXPECT_NE(readText(g + "README.md").find("torch.from_numpy"), std::string::npos);
+}
+
+// The preview video is H.264 ('avc1' sample entry in the mp4, what browsers play) whenever this
+// OpenCV can encode H.264, and at most 640 pixels wide with even sides.
+TEST_F(RenderConditioningTool, PreviewVideoIsH264WhereTheEncoderExists) {
+  const std::string probe = dir() + "probe_h264.mp4";
+  const bool h264 =
+      cv::VideoWriter(probe, cv::VideoWriter::fourcc('a', 'v', 'c', '1'), 10.0, cv::Size(64, 48))
+          .isOpened();
+  std::remove(probe.c_str());
+  const std::string out = dir() + "out_video";
+  const RunResult r = runTool(common_ + kIntrinsics +
+                              " --preset right --magnitude 0.2 --num-frames 4 --size 48 1300"
+                              " --threads 1 --quiet --output " +
+                              out);
+  ASSERT_EQ(r.exit_code, 0) << r.all;
+  if (!h264)
+    GTEST_SKIP() << "this OpenCV has no H.264 encoder (the tool fell back: " << r.all << ")";
+  EXPECT_NE(r.out.find("\"video_codec\": \"avc1\""), std::string::npos) << r.out;
+  const std::string mp4 = readText(out + "/preview.mp4");
+  // ISO/IEC 14496-15: the visual sample entry of an H.264 track is the box type 'avc1'.
+  EXPECT_NE(mp4.find("avc1"), std::string::npos) << "no avc1 sample entry";
+  EXPECT_EQ(mp4.find("mp4v"), std::string::npos);
+  cv::VideoCapture video(out + "/preview.mp4");
+  ASSERT_TRUE(video.isOpened());
+  EXPECT_EQ(video.get(cv::CAP_PROP_FRAME_WIDTH), 640);
+  EXPECT_EQ(video.get(cv::CAP_PROP_FRAME_HEIGHT), 24);  // 48 * 640 / 1300 = 23.6 -> even 24
+  EXPECT_EQ(video.get(cv::CAP_PROP_FRAME_COUNT), 4);
+  const int fourcc = static_cast<int>(video.get(cv::CAP_PROP_FOURCC));
+  const std::string name{char(fourcc & 255), char((fourcc >> 8) & 255), char((fourcc >> 16) & 255),
+                         char((fourcc >> 24) & 255)};
+  EXPECT_TRUE(name == "avc1" || name == "h264" || name == "H264") << name;
 }
 
 TEST_F(RenderConditioningTool, ReferenceFrameReproducesTheImageAtCoveredPixels) {
