@@ -401,7 +401,7 @@ def main():
         for i in show:
             name = names[i]
             masks = os.path.join(cond, "masks", name)
-            preview = os.path.join(cond, "preview", name)
+            preview = os.path.join(cond, "preview", os.path.splitext(name)[0] + ".jpg")
             cell = '<figure><img src="%s"><figcaption>frame %d' % (
                 rel(os.path.join(frames_dir, name)), i)
             if os.path.exists(preview):
