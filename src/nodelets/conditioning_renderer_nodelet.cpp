@@ -83,7 +83,7 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
 
   // Static parameters (read once in onInit).
   int queue_size_ = 5;
-  int camera_queue_size_ = 5;
+  int camera_queue_size_ = 30;
   int publisher_queue_size_ = 10;
   int max_live_backlog_ = 8;
   ros::Duration tf_timeout_;
@@ -146,7 +146,7 @@ void ConditioningRendererNodelet::onInit() {
   ros::NodeHandle& nh = getNodeHandle();
   ros::NodeHandle& pnh = getPrivateNodeHandle();
   queue_size_ = pnh.param("queue_size", 5);
-  camera_queue_size_ = pnh.param("camera_queue_size", 5);
+  camera_queue_size_ = pnh.param("camera_queue_size", 30);
   publisher_queue_size_ = pnh.param("publisher_queue_size", 10);
   max_live_backlog_ = std::max(1, pnh.param("max_live_backlog", 8));
   tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
