@@ -355,7 +355,11 @@ int run(int argc, char** argv) {
     }
     return msg;
   };
-  if (extrinsic[0] || extrinsic[1]) bag.writeStatic(start, staticMessage(start));
+  // Recorded 0.1 s before the first frame (its transforms keep the first frame's stamp): inside
+  // one `rosbag play` the extrinsic and a first scan with the same time race, and a single radar
+  // scan whose sensor -> camera transform is not there yet is dropped by the depth nodelet.
+  const ros::Time static_time = start - ros::Duration(std::min(0.1, start.toSec()));
+  if (extrinsic[0] || extrinsic[1]) bag.writeStatic(static_time, staticMessage(start));
 
   mm::io::KittiCalib intrinsics = first_intrinsics.value_or(mm::io::KittiCalib());
   int index = 0;
