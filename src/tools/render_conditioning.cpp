@@ -391,10 +391,8 @@ int run(int argc, char** argv) {
     mm::makeDirectories(output + "/" + sub);
   mm::json::writeTextFile(output + "/cameras.json", camerasJson(trajectory, source));
   std::string video_path, video_codec;
-  cv::VideoWriter video = openPreviewVideo(
-      output, o.fps, previewVideoSize(cv::Size(render_size.width, render_size.height)), video_path,
-      video_codec);
   const cv::Size video_size = previewVideoSize(cv::Size(render_size.width, render_size.height));
+  cv::VideoWriter video = openPreviewVideo(output, o.fps, video_size, video_path, video_codec);
   std::optional<mm::Gen3cBurstExport> gen3c;
   if (o.gen3c) {
     if (const auto warning = mm::gen3cSizeWarning(num_frames, render_size)) {
