@@ -126,8 +126,8 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
     sensor_msgs::CameraInfoConstPtr info;
     std::chrono::steady_clock::time_point arrival;
   };
-  /// Queues `input`; false when the oldest camera image had to make room.
-  bool enqueue(PendingInput input);
+  /// Queues `input`; when the oldest camera image has to make room, counts and logs the drop.
+  void enqueue(PendingInput input);
   std::mutex pending_mutex_;
   std::condition_variable pending_cv_;
   std::deque<PendingInput> pending_;
@@ -227,7 +227,7 @@ void ConditioningRendererNodelet::connectCb() {
   diagnostics_.setSubscribed(wanted);
 }
 
-bool ConditioningRendererNodelet::enqueue(PendingInput input) {
+void ConditioningRendererNodelet::enqueue(PendingInput input) {
   bool dropped = false;
   {
     std::lock_guard<std::mutex> lock(pending_mutex_);
@@ -244,16 +244,16 @@ bool ConditioningRendererNodelet::enqueue(PendingInput input) {
     }
   }
   pending_cv_.notify_one();
-  return !dropped;
-}
-
-void ConditioningRendererNodelet::onCameraImage(const sensor_msgs::ImageConstPtr& image) {
-  diagnostics_.countCameraImage();
-  if (!enqueue({image, nullptr, nullptr, nullptr, std::chrono::steady_clock::now()})) {
+  if (dropped) {
     diagnostics_.countCameraImageDropped();
     NODELET_ERROR_THROTTLE(2.0, "camera image dropped: %zu inputs wait for the live view",
                            RendererSession::kHistoryFrames);
   }
+}
+
+void ConditioningRendererNodelet::onCameraImage(const sensor_msgs::ImageConstPtr& image) {
+  diagnostics_.countCameraImage();
+  enqueue({image, nullptr, nullptr, nullptr, std::chrono::steady_clock::now()});
 }
 
 void ConditioningRendererNodelet::onFrame(const sensor_msgs::ImageConstPtr& image,
@@ -261,11 +261,7 @@ void ConditioningRendererNodelet::onFrame(const sensor_msgs::ImageConstPtr& imag
                                           const sensor_msgs::ImageConstPtr& mask,
                                           const sensor_msgs::CameraInfoConstPtr& info) {
   diagnostics_.countSet();
-  if (!enqueue({image, depth, mask, info, std::chrono::steady_clock::now()})) {
-    diagnostics_.countCameraImageDropped();
-    NODELET_ERROR_THROTTLE(2.0, "camera image dropped: %zu inputs wait for the live view",
-                           RendererSession::kHistoryFrames);
-  }
+  enqueue({image, depth, mask, info, std::chrono::steady_clock::now()});
 }
 
 void ConditioningRendererNodelet::serveInputs() {

@@ -84,7 +84,7 @@ void RendererSession::serveCameraFrame(CameraFrame& frame,
                                        const ConditioningRendererSettings& settings,
                                        RendererStep& step, rc::RendererStatus& fault,
                                        bool render_live) {
-  const bool live = settings.source == TrajectorySource::kTf && !frame.rendered;
+  const bool live = settings.source == TrajectorySource::kTf;
   const bool collecting = collector_.stage() == RecordedPoseCollector::Stage::kCollecting;
   if (live && !render_live) ++step.live_skipped;
   const bool render = live && render_live;

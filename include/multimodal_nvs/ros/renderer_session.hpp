@@ -127,13 +127,12 @@ class RendererSession {
                     const ConditioningRendererSettings& settings, RendererStep& step);
   const ColoredCloud* keyframeCloud(const ConditioningRendererSettings& settings,
                                     RendererStep& step);
-  /// A camera frame kept in the history: its header, its pose once looked up, its live image at
-  /// the render size while an export wants ground truth, and whether it was rendered.
+  /// A camera frame kept in the history: its header, its pose once looked up, and its live image
+  /// at the render size while an export wants ground truth.
   struct CameraFrame {
     std_msgs::Header header;
     std::optional<Eigen::Matrix4d> camera_to_world;
     cv::Mat ground_truth;
-    bool rendered = false;
     std::chrono::steady_clock::time_point arrival;
   };
   void serveCameraFrame(CameraFrame& frame, const ConditioningRendererSettings& settings,
