@@ -3,8 +3,9 @@
 # loop sets simulated time back) through launch/pipeline.launch, both nodelets in one manager, for
 # SECONDS (default 120; the README documents a 1-hour run), while scripts/soak_monitor.py changes
 # dynamic_reconfigure parameters of both nodelets at random, samples the manager's RSS from /proc
-# and checks: no crash, RSS growth < SOAK_MAX_RSS_GROWTH_MB after the warm-up, frames out = frames
-# in within the drop policy (at most SOAK_MAX_DROP_PERCENT lost). Prints one summary line.
+# and checks: no crash, RSS growth < SOAK_MAX_RSS_GROWTH_MB after the warm-up, every output matched
+# to its input by stamp (none twice, none from nothing), at most SOAK_MAX_DROP_PERCENT lost within
+# the drop policy. Prints one summary line.
 #
 #   scripts/soak.sh [SECONDS]          (make soak SOAK_SECONDS=3600 for the long run)
 #
@@ -38,6 +39,7 @@ done
 [[ -f "$DEVEL/lib/libmultimodal_nvs_nodelets.so" ]] ||
   { echo "soak: the nodelets are not built in $BUILD_DIR" >&2; exit 1; }
 
+"$PY" "$REPO/scripts/soak_monitor.py" --self-test
 mkdir -p "$OUT"
 BAG="$OUT/scene_${SCALE}_${FRAMES}.bag"
 if [[ ! -f "$BAG" ]]; then

@@ -7,17 +7,22 @@ end prints one summary line and writes it as JSON. Exit status 0 when every chec
 Checks:
   - no crash: every watched node answers with the same pid at the end as at the start;
   - RSS growth < --max-rss-growth-mb between the end of the warm-up and the end;
-  - drop policy: frames out <= frames in (nothing published twice), and the frames lost
-    (in - out) are at most --max-drop-percent of the frames in, every one of them accounted for by
-    the documented policy: a set is dropped when the nodelet is busy (its 1-deep subscriber queues
-    keep the newest message), by the synchronizer (a cloud without an image within max_interval), at
-    each loop restart (the synchronizer is recreated), or rejected with a counted reason.
+  - drop policy: every output (depth/stats) is matched to the input cloud it came from by header
+    stamp, in arrival order: an output that matches no input, or repeats the previous output's
+    stamp, was published twice or from nothing. Only inputs that arrived inside the measured window
+    count, and only outputs matched to them (a set in flight when the window opens belongs to no
+    side). The frames lost (in - out) are at most --max-drop-percent of the frames in, every one of
+    them accounted for by the documented policy: a set is dropped when the nodelet is busy (its
+    1-deep subscriber queues keep the newest message), by the synchronizer (a cloud without an
+    image within max_interval), at each loop restart (the synchronizer is recreated), or rejected
+    with a counted reason.
 """
 import argparse
 import json
 import os
 import random
 import statistics
+import struct
 import sys
 import threading
 import time
@@ -81,6 +86,72 @@ class Counter:
             return self.count
 
 
+class StampLog:
+    """Header stamps of a topic's messages in arrival order, read from the serialized message
+    (std_msgs/Header is the first field of both PointCloud2 and DepthCompletionStats: uint32 seq,
+    uint32 secs, uint32 nsecs), so that no message type has to be deserialized."""
+
+    def __init__(self, topic):
+        self.stamps = []
+        self.lock = threading.Lock()
+        self.sub = rospy.Subscriber(topic, rospy.AnyMsg, self.callback, queue_size=100)
+
+    def callback(self, msg):
+        _, secs, nsecs = struct.unpack_from("<III", msg._buff, 0)
+        with self.lock:
+            self.stamps.append((secs, nsecs))
+
+    def snapshot(self):
+        with self.lock:
+            return list(self.stamps)
+
+
+def match_outputs(inputs, outputs, in_begin, in_end, out_begin, lookback=10, horizon=200):
+    """Matches each output from index out_begin on to the input it came from: the first input with
+    the same stamp at or after the previous match (the nodelet keeps the order of its input and
+    only drops), searching from `lookback` inputs before in_begin for sets in flight when the
+    window opened, at most `horizon` inputs ahead. Returns (outputs matched to inputs in
+    [in_begin, in_end), outputs that match no input, outputs repeating the previous output's input)."""
+    position = max(0, in_begin - lookback)
+    matched = unmatched = repeated = 0
+    previous = None
+    for stamp in outputs[out_begin:]:
+        # The previous output's stamp again is the same input published twice, unless the very
+        # next input carries that stamp too (a bag of one frame looped).
+        if stamp == previous and not (position < len(inputs) and inputs[position] == stamp):
+            repeated += 1
+            continue
+        found = next((i for i in range(position, min(len(inputs), position + horizon))
+                      if inputs[i] == stamp), None)
+        if found is None:
+            unmatched += 1
+            continue
+        previous = stamp
+        position = found + 1
+        if in_begin <= found < in_end:
+            matched += 1
+    return matched, unmatched, repeated
+
+
+def self_test():
+    """The matching rules on hand-made sequences (soak.sh runs this before the soak)."""
+    loop = [(i, 0) for i in range(5)] * 4  # a five-frame bag played four times
+    cases = [
+        ((loop, [(1, 0), (2, 0), (4, 0), (0, 0), (2, 0), (3, 0)], 0, 20, 0), (6, 0, 0)),
+        # the first output came from an input before the window: neither side counts it
+        ((loop, [(4, 0), (0, 0), (1, 0)], 5, 20, 0), (2, 0, 0)),
+        ((loop, [(1, 0), (1, 0), (9, 9)], 0, 20, 0), (1, 1, 1)),
+        (([(0, 0)] * 5, [(0, 0)] * 3, 0, 5, 0), (3, 0, 0)),  # a one-frame bag looped
+    ]
+    for arguments, expected in cases:
+        got = match_outputs(*arguments)
+        if got != expected:
+            print(f"soak_monitor self-test: {arguments[1]} gave {got}, expected {expected}",
+                  file=sys.stderr)
+            return 1
+    return 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--duration", type=float, required=True, help="seconds of soak")
@@ -112,15 +183,15 @@ def main():
                     diagnostics.update({kv.key: kv.value for kv in status.values})
 
     rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics, queue_size=20)
-    frames_in = Counter(args.points)
-    frames_out = Counter("/depth/stats")
+    frames_in = StampLog(args.points)
+    frames_out = StampLog("/depth/stats")
     renders = Counter("/conditioning/image")
 
     # Wait for the pipeline to answer (nodelets loaded, subscriptions made, the bag playing).
     deadline = time.time() + 120.0
-    while not rospy.is_shutdown() and frames_out.value() == 0 and time.time() < deadline:
+    while not rospy.is_shutdown() and not frames_out.snapshot() and time.time() < deadline:
         time.sleep(0.2)
-    if frames_out.value() == 0:
+    if not frames_out.snapshot():
         print("soak: the pipeline published no depth/stats within 120 s", file=sys.stderr)
         return 1
     pids = {name: node_pid(master, name) for name in args.processes}
@@ -141,7 +212,11 @@ def main():
 
     main_pid = pids[args.processes[0]]
     start = time.time()
-    base_in, base_out, base_renders = frames_in.value(), frames_out.value(), renders.value()
+    # Output first: every output counted from here on came from an input at or after in_begin - a
+    # few, which match_outputs searches.
+    out_begin = len(frames_out.snapshot())
+    in_begin = len(frames_in.snapshot())
+    base_renders = renders.value()
     samples = []  # (seconds since start, RSS MB of the main process)
     changes_made = 0
     next_change = start + rng.expovariate(1.0 / args.reconfigure_period)
@@ -165,9 +240,12 @@ def main():
             next_change = now + rng.expovariate(1.0 / args.reconfigure_period)
         time.sleep(1.0)
     elapsed = time.time() - start
+    in_end = len(frames_in.snapshot())
     time.sleep(2.0)  # frames in flight at the end
-    n_in = frames_in.value() - base_in
-    n_out = frames_out.value() - base_out
+    inputs = frames_in.snapshot()
+    n_in = in_end - in_begin
+    n_out, unmatched, repeated = match_outputs(inputs, frames_out.snapshot(), in_begin, in_end,
+                                               out_begin)
     n_renders = renders.value() - base_renders
 
     crashed = [name for name, pid in pids.items() if node_pid(master, name) != pid]
@@ -187,8 +265,10 @@ def main():
         failures.append(f"crashed or restarted: {crashed}")
     if not growth < args.max_rss_growth_mb:
         failures.append(f"RSS grew {growth:.1f} MB (limit {args.max_rss_growth_mb})")
-    if n_out > n_in:
-        failures.append(f"more frames out ({n_out}) than in ({n_in})")
+    if unmatched:
+        failures.append(f"{unmatched} outputs match no input stamp")
+    if repeated:
+        failures.append(f"{repeated} outputs repeat the previous output's stamp (published twice)")
     if drop_percent > args.max_drop_percent:
         failures.append(f"dropped {drop_percent:.1f} % (limit {args.max_drop_percent} %)")
     if changes_made == 0:
@@ -198,6 +278,8 @@ def main():
         "duration_s": round(elapsed, 1),
         "frames_in": n_in,
         "frames_out": n_out,
+        "outputs_unmatched": unmatched,
+        "outputs_repeated": repeated,
         "renders": n_renders,
         "drop_percent": round(drop_percent, 2),
         "rss_start_mb": round(rss_start, 1),
@@ -224,4 +306,4 @@ def main():
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(self_test() if sys.argv[1:] == ["--self-test"] else main())
