@@ -21,28 +21,28 @@ void applyDistortion(const std::array<double, 8>& k, double x, double y, double*
   *yd = y * radial + k[2] * (r2 + 2.0 * y * y) + 2.0 * k[3] * x * y;
 }
 
-// The radius (normalised) up to which the distorted radius grows with the undistorted one along
-// every direction checked; beyond it the model folds back. Checked up to r = 10 (84 degrees off
-// axis), in 1/1000 steps along 16 directions (tangential terms make it direction dependent).
+// The radius (normalised) up to which the distorted radius grows with the undistorted one in every
+// direction; beyond it the model folds back (far rays would land back inside the image). Along the
+// direction (cos a, sin a), applyDistortion's component along the ray is
+//   r R(r^2) + 3 r^2 (p1 sin a + p2 cos a),   R = the radial factor, (p1, p2) = (k[2], k[3]),
+// because the tangential terms sum to r^2 (p1 s (2 c^2 + 1 + 2 s^2) + p2 c (1 + 2 c^2 + 2 s^2)).
+// Only the last term depends on the direction, linearly, so the direction that folds first is the
+// one where p1 sin a + p2 cos a takes its minimum, -hypot(p1, p2): one scan along it bounds every
+// direction (a scan of 16 sampled directions cost 1 ms per camera and missed the ones between).
+// Checked up to r = 10 (84 degrees off axis) in 1/1000 steps.
 double monotoneRadius(const std::array<double, 8>& k) {
-  constexpr int kDirections = 16;
   constexpr double kStep = 1e-3, kMax = 10.0;
-  double limit = std::numeric_limits<double>::infinity();
-  for (int d = 0; d < kDirections; ++d) {
-    const double a = 2.0 * M_PI * d / kDirections, ca = std::cos(a), sa = std::sin(a);
-    double previous = 0.0;
-    for (double r = kStep; r <= kMax; r += kStep) {
-      double xd = 0, yd = 0;
-      applyDistortion(k, r * ca, r * sa, &xd, &yd);
-      const double along = xd * ca + yd * sa;
-      if (!(along > previous)) {
-        limit = std::min(limit, r - kStep);
-        break;
-      }
-      previous = along;
-    }
+  const double tangential = -3.0 * std::hypot(k[2], k[3]);
+  double previous = 0.0;
+  for (double r = kStep; r <= kMax; r += kStep) {
+    const double r2 = r * r, r4 = r2 * r2, r6 = r4 * r2;
+    const double radial =
+        (1.0 + k[0] * r2 + k[1] * r4 + k[4] * r6) / (1.0 + k[5] * r2 + k[6] * r4 + k[7] * r6);
+    const double along = r * radial + r2 * tangential;
+    if (!(along > previous)) return r - kStep;
+    previous = along;
   }
-  return limit;
+  return std::numeric_limits<double>::infinity();
 }
 
 }  // namespace

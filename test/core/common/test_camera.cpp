@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "../input_error.hpp"
@@ -118,4 +119,37 @@ TEST(PinholeIntrinsics, ProjectionRefusesRaysPastTheFold) {
   double u = 0, v = 0;
   EXPECT_TRUE(k.project(0.5, 0.0, 1.0, &u, &v));
   EXPECT_FALSE(k.project(3.0, 0.0, 1.0, &u, &v));
+}
+
+TEST(LensDistortion, MonotoneRadiusHoldsInEveryDirectionAndIsTight) {
+  // Tangential terms make the fold direction dependent; the radius must hold in all of them (here
+  // 3600, many between any fixed sample of directions) and be reached in the worst one.
+  const std::vector<std::vector<double>> lenses = {
+      {-0.3, 0.0, 0.02, -0.03, 0.0}, {-0.2, 0.01, -0.05, 0.01, 0.0}, kPlumbBob};
+  for (const std::vector<double>& d : lenses) {
+    const LensDistortion lens = LensDistortion::fromRos("plumb_bob", d, "p");
+    ASSERT_TRUE(std::isfinite(lens.monotone_radius) || d == kPlumbBob);
+    LensDistortion unlimited = lens;  // the raw model, also past the fold
+    unlimited.monotone_radius = std::numeric_limits<double>::infinity();
+    const double limit = std::min(lens.monotone_radius, 10.0);
+    double worst_fold = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 3600; ++i) {
+      const double a = 2.0 * M_PI * i / 3600.0, c = std::cos(a), s = std::sin(a);
+      double previous = 0.0;
+      for (double r = 1e-3; r <= limit + 0.05 && r <= 10.0; r += 1e-3) {
+        double xd = 0, yd = 0;
+        ASSERT_TRUE(unlimited.distort(r * c, r * s, &xd, &yd));
+        const double along = xd * c + yd * s;
+        if (!(along > previous)) {
+          ASSERT_GT(r, limit) << "folds inside the radius at angle " << a;
+          worst_fold = std::min(worst_fold, r);
+          break;
+        }
+        previous = along;
+      }
+    }
+    if (std::isfinite(lens.monotone_radius)) {
+      EXPECT_NEAR(worst_fold, lens.monotone_radius, 3e-3);
+    }
+  }
 }
