@@ -7,7 +7,7 @@
 # Environment: FUZZ_BUILD_DIR (build_fuzz), JOBS (2), FUZZ_TIMEOUT per input in s (10),
 # FUZZ_RSS_MB (2048), FUZZERS (space-separated subset of the harnesses), FUZZ_RUNS (stop each
 # harness after this many inputs instead; SECONDS_PER_HARNESS stays its time limit, and a harness
-# that stops on time short of FUZZ_RUNS fails).
+# that stops on time short of FUZZ_RUNS fails), FUZZ_FORK (N: libFuzzer's fork mode, N processes).
 set -uo pipefail
 SECONDS_PER_HARNESS=${1:-60}
 if ! [[ "$SECONDS_PER_HARNESS" =~ ^[0-9]+$ ]] || ((SECONDS_PER_HARNESS == 0)); then
@@ -22,6 +22,11 @@ JOBS=${JOBS:-2}
 TIMEOUT=${FUZZ_TIMEOUT:-10}
 RSS_MB=${FUZZ_RSS_MB:-2048}
 RUNS=${FUZZ_RUNS:-}
+FORK=${FUZZ_FORK:-}
+if [[ -n "$FORK" ]] && ! [[ "$FORK" =~ ^[1-9][0-9]*$ ]]; then
+  echo "scripts/fuzz.sh: FUZZ_FORK must be a positive whole number" >&2
+  exit 2
+fi
 if [[ -n "$RUNS" ]] && ! [[ "$RUNS" =~ ^[1-9][0-9]*$ ]]; then
   echo "scripts/fuzz.sh: FUZZ_RUNS must be a positive whole number" >&2
   exit 2
@@ -68,23 +73,34 @@ for fuzzer in "${fuzzers[@]}"; do
   runs=()
   [[ -n "$RUNS" ]] && runs=("-runs=$RUNS")
   started=$SECONDS
-  # -purge_allocator_interval=-1: once RSS passes half the limit, libFuzzer otherwise purges ASan's
-  # allocator every second (madvise), and every page is faulted back in by the next inputs; on this
-  # VM (~30 us per page fault) that took fuzz_camera_info (yaml-cpp: many small nodes per input)
-  # from ~4.5 k to ~300 inputs/s after ten minutes. RSS still counts against -rss_limit_mb.
+  # -purge_allocator_interval=30: once RSS passes half the limit, libFuzzer purges ASan's allocator
+  # every second by default (madvise), and the next inputs fault every page back in; on this VM
+  # (~30 us per page fault) that took fuzz_camera_info (yaml-cpp: many small nodes per input) from
+  # ~4.5 k to ~320 inputs/s within ten minutes. Never purging let its RSS climb towards the limit.
+  # FUZZ_FORK=N: libFuzzer's fork mode, N child processes on the shared corpus, each restarted after
+  # a short job (so allocator state starts fresh); findings of any kind stop the run as without it.
+  fork=()
+  [[ -n "$FORK" ]] && fork=("-fork=$FORK" -ignore_crashes=0 -ignore_ooms=0 -ignore_timeouts=0)
   "$BUILD/$fuzzer" -max_total_time="$SECONDS_PER_HARNESS" -timeout="$TIMEOUT" \
-    -rss_limit_mb="$RSS_MB" -purge_allocator_interval=-1 -print_final_stats=1 -artifact_prefix="$artifacts/" "${dict[@]}" \
-    "${runs[@]}" "$corpus" "$BUILD/seeds/$fuzzer" >"$log" 2>&1
+    -rss_limit_mb="$RSS_MB" -purge_allocator_interval=30 -print_final_stats=1 \
+    -artifact_prefix="$artifacts/" "${dict[@]}" "${runs[@]}" "${fork[@]}" "$corpus" \
+    "$BUILD/seeds/$fuzzer" >"$log" 2>&1
   rc=$?
   elapsed=$((SECONDS - started))
   execs=$(final_stat number_of_executed_units "$log")
   rate=$(final_stat average_exec_per_sec "$log")
   rss=$(final_stat peak_rss_mb "$log")
-  # The last status line, e.g. "#123456 DONE cov: 412 ft: 1830 corp: 97/21Kb ...".
+  # The last status line, e.g. "#123456 DONE cov: 412 ft: 1830 corp: 97/21Kb ..." (fork mode:
+  # "#123456: cov: 2071 ft: 1835 corp: 221 exec/s 3467 oom/timeout/crash: 0/0/0 ...", and the
+  # parent prints no final stats: the executions are the status line's count).
   status=$(grep -E '^#[0-9]+' "$log" | tail -n 1)
+  if [[ -n "$FORK" ]]; then
+    execs=$(sed -nE 's/^#([0-9]+):.*/\1/p' <<<"$status")
+    rate=$((${execs:-0} / (elapsed > 0 ? elapsed : 1)))
+  fi
   cov=$(sed -nE 's/.* cov: ([0-9]+).*/\1/p' <<<"$status")
   ft=$(sed -nE 's/.* ft: ([0-9]+).*/\1/p' <<<"$status")
-  corp=$(sed -nE 's/.* corp: ([0-9]+)\/.*/\1/p' <<<"$status")
+  corp=$(sed -nE 's/.* corp: ([0-9]+).*/\1/p' <<<"$status")
   figures="${execs:-?} execs in ${elapsed} s (${rate:-?}/s), cov ${cov:-?}, ft ${ft:-?}, corpus ${corp:-?}, peak RSS ${rss:-?} MB"
   if ((rc == 0)) && [[ -n "$RUNS" ]] && ((${execs:-0} < RUNS)); then
     failed=$((failed + 1))

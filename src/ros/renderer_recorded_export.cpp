@@ -203,10 +203,11 @@ Trajectory renderInto(const std::string& dir, PointSplatter& splatter, const Rec
   std::vector<NvsFrameMetrics> metrics, metrics_of_frame(static_cast<std::size_t>(num_frames));
   std::vector<char> has_metrics(static_cast<std::size_t>(num_frames), 0);
   if (cancelled()) throw ExportCancelled{};
-  // The metrics (preview fill, SSIM) on worker threads while the next chunk renders; the arrays
-  // and the progress in frame order.
+  // The arrays (each frame has its own place in them) and the metrics (preview fill, SSIM) on
+  // worker threads while the next chunk renders; the progress in frame order.
   BurstFrameStages stages;
   stages.parallel = [&](int index, RenderedFrame& frame, int) {
+    gen3c.write(index, frame);
     const auto i = static_cast<std::size_t>(index);
     const int pose = pose_of_frame[i];
     if (pose < 0) return;
@@ -217,9 +218,8 @@ Trajectory renderInto(const std::string& dir, PointSplatter& splatter, const Rec
         fillHolesPushPull(frame.bgr, frame.mask), gt);
     has_metrics[i] = 1;
   };
-  stages.ordered = [&](int index, RenderedFrame& frame) {
+  stages.ordered = [&](int index, RenderedFrame&) {
     const auto i = static_cast<std::size_t>(index);
-    gen3c.append(frame);
     if (has_metrics[i] != 0) metrics.push_back(metrics_of_frame[i]);
     progress(index + 1, num_frames);
     if (cancelled()) throw ExportCancelled{};

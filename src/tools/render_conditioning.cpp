@@ -414,8 +414,8 @@ int run(int argc, char** argv) {
   double min_coverage = 1.0;
   const auto t_all = std::chrono::steady_clock::now();
   mm::cli::Progress progress("render_conditioning", num_frames, "frames", o.quiet);
-  // Each frame's PNGs, preview and metrics on the workers while the next chunk renders; the video
-  // and the GEN3C arrays in frame order.
+  // Each frame's PNGs, preview, metrics and GEN3C array slices on the workers while the next chunk
+  // renders (every frame has its own place in the arrays); only the video in frame order.
   mm::BurstFrameStages stages;
   stages.parallel = [&](int index, mm::RenderedFrame& f, int) {
     const auto i = static_cast<std::size_t>(index);
@@ -429,6 +429,7 @@ int run(int argc, char** argv) {
     writePng(output + "/frames/" + frameName(index) + ".png", f.bgr);
     writePng(output + "/masks/" + frameName(index) + ".png", f.mask);
     writeJpeg(output + "/preview/" + frameName(index) + ".jpg", preview);
+    if (gen3c) gen3c->write(index, f);
     if (preview.size() == video_size) {
       preview_of_frame[i] = preview;
     } else {
@@ -441,7 +442,6 @@ int run(int argc, char** argv) {
     min_coverage = std::min(min_coverage, mm::coverage(f.mask));
     if (video.isOpened()) video.write(preview_of_frame[i]);
     preview_of_frame[i].release();
-    if (gen3c) gen3c->append(f);
     if (!gt_of_frame[i].empty()) metrics.push_back(metrics_of_frame[i]);
   };
   mm::BurstPipelineOptions pipeline;

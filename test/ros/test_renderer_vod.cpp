@@ -115,6 +115,20 @@ TEST_F(RendererVodTest, LiveFramesFollowTheCameraAndTheExportEqualsRenderConditi
       });
   ros::Subscriber diag =
       rostest_helpers::subscribeDiagnostics(nh, {"conditioning_renderer"}, mutex, diagnostics);
+  // Printed when the export fails: which input the pipeline lost shows in both nodelets' counts.
+  std::map<std::string, std::string> depth_diagnostics;
+  ros::Subscriber depth_diag =
+      rostest_helpers::subscribeDiagnostics(nh, {"depth completion"}, mutex, depth_diagnostics);
+  const auto counts = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    std::string text = "renderer diagnostics:";
+    for (const auto& kv : diagnostics)
+      text += " [" + kv.first + ": " + kv.second + "]";
+    text += "\ndepth completion diagnostics:";
+    for (const auto& kv : depth_diagnostics)
+      text += " [" + kv.first + ": " + kv.second + "]";
+    return text;
+  };
 
   // Simulated time: until the bag's clock runs, a slow clock below its first stamp (1 s) lets the
   // action client start (it waits for a valid time) and the server's status timer fire.
@@ -167,7 +181,7 @@ TEST_F(RendererVodTest, LiveFramesFollowTheCameraAndTheExportEqualsRenderConditi
   ASSERT_TRUE(waitWall([&] { return client.getState().isDone(); }, 300.0)) << "export never ended";
   int status = 0;
   EXPECT_EQ(waitpid(player_, &status, WNOHANG), 0) << "rosbag play ended early";
-  ASSERT_EQ(client.getState(), State::SUCCEEDED) << client.getState().getText();
+  ASSERT_EQ(client.getState(), State::SUCCEEDED) << client.getState().getText() << "\n" << counts();
   const auto result = client.getResult();
   EXPECT_EQ(result->poses, kPoses);
   EXPECT_EQ(result->frames, 121);

@@ -1,9 +1,12 @@
 #include "multimodal_nvs/core/render/gen3c_export.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -40,6 +43,33 @@ void makeDirectories(const std::string& directory) {
   }
 }
 
+namespace {
+
+int createFile(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    throw InputError(path + ": cannot open for writing (" + std::strerror(errno) + ")");
+  }
+  return fd;
+}
+
+void writeFully(int fd, const std::string& path, const char* data, std::size_t bytes,
+                std::size_t offset) {
+  while (bytes > 0) {
+    const ssize_t n = ::pwrite(fd, data, bytes, static_cast<off_t>(offset));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      throw InputError(path + ": write failed (" +
+                       (n < 0 ? std::string(std::strerror(errno)) : "no space?") + ")");
+    }
+    data += n;
+    bytes -= static_cast<std::size_t>(n);
+    offset += static_cast<std::size_t>(n);
+  }
+}
+
+}  // namespace
+
 Gen3cExportWriter::Gen3cExportWriter(const std::string& directory, int num_frames, ImageSize size)
     : num_frames_(num_frames), size_(size) {
   if (num_frames < 1 || size.height <= 0 || size.width <= 0) {
@@ -48,24 +78,60 @@ Gen3cExportWriter::Gen3cExportWriter(const std::string& directory, int num_frame
   makeDirectories(directory);
   images_path_ = directory + "/rendered_warp_images.npy";
   masks_path_ = directory + "/rendered_warp_masks.npy";
-  images_.open(images_path_, std::ios::binary | std::ios::trunc);
-  if (!images_) throw InputError(images_path_ + ": cannot open for writing");
-  masks_.open(masks_path_, std::ios::binary | std::ios::trunc);
-  if (!masks_) throw InputError(masks_path_ + ": cannot open for writing");
+  images_fd_ = createFile(images_path_);
+  try {
+    masks_fd_ = createFile(masks_path_);
+  } catch (...) {
+    ::close(images_fd_);
+    throw;
+  }
   const std::string image_header = io::npyHeader("<f4", gen3cImagesShape(num_frames, size));
   const std::string mask_header = io::npyHeader("<f4", gen3cMasksShape(num_frames, size));
-  images_.write(image_header.data(), static_cast<std::streamsize>(image_header.size()));
-  masks_.write(mask_header.data(), static_cast<std::streamsize>(mask_header.size()));
-  plane_.resize(static_cast<std::size_t>(size.pixels()));
+  images_header_ = image_header.size();
+  masks_header_ = mask_header.size();
+  try {
+    writeFully(images_fd_, images_path_, image_header.data(), image_header.size(), 0);
+    writeFully(masks_fd_, masks_path_, mask_header.data(), mask_header.size(), 0);
+  } catch (...) {
+    ::close(images_fd_);
+    ::close(masks_fd_);
+    throw;
+  }
+  written_.assign(static_cast<std::size_t>(num_frames), false);
 }
 
-Gen3cExportWriter::~Gen3cExportWriter() = default;
+Gen3cExportWriter::~Gen3cExportWriter() {
+  if (images_fd_ >= 0) ::close(images_fd_);
+  if (masks_fd_ >= 0) ::close(masks_fd_);
+}
 
-void Gen3cExportWriter::append(const RenderedFrame& frame) {
-  if (finished_) throw InputError(images_path_ + ": frame appended after finish()");
-  if (written_ >= num_frames_) {
-    throw InputError(images_path_ + ": more than the declared " + std::to_string(num_frames_) +
-                     " frames appended");
+std::vector<float> Gen3cExportWriter::takeBuffer() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!buffers_.empty()) {
+      std::vector<float> buffer = std::move(buffers_.back());
+      buffers_.pop_back();
+      return buffer;
+    }
+  }
+  return std::vector<float>(static_cast<std::size_t>(size_.pixels()));
+}
+
+void Gen3cExportWriter::returnBuffer(std::vector<float>&& buffer) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  buffers_.push_back(std::move(buffer));
+}
+
+void Gen3cExportWriter::writeAt(int fd, const std::string& path, const std::vector<float>& plane,
+                                std::size_t offset) {
+  writeFully(fd, path, reinterpret_cast<const char*>(plane.data()), plane.size() * sizeof(float),
+             offset);
+}
+
+void Gen3cExportWriter::write(int index, const RenderedFrame& frame) {
+  if (index < 0 || index >= num_frames_) {
+    throw InputError(images_path_ + ": frame " + std::to_string(index) + " is not among the " +
+                     "declared " + std::to_string(num_frames_) + " frames");
   }
   const bool has_signed = !frame.signed_bgr.empty();
   if (frame.mask.type() != CV_8UC1 || frame.mask.rows != size_.height ||
@@ -73,15 +139,27 @@ void Gen3cExportWriter::append(const RenderedFrame& frame) {
       frame.bgr.size() != frame.mask.size() ||
       (has_signed &&
        (frame.signed_bgr.type() != CV_32FC3 || frame.signed_bgr.size() != frame.mask.size()))) {
-    throw InputError(images_path_ + ": frame " + std::to_string(written_) + " is not " +
+    throw InputError(images_path_ + ": frame " + std::to_string(index) + " is not " +
                      std::to_string(size_.height) + "x" + std::to_string(size_.width) +
                      " BGR8 + mask");
   }
-  const std::streamsize plane_bytes = static_cast<std::streamsize>(plane_.size() * sizeof(float));
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (finished_) throw InputError(images_path_ + ": frame written after finish()");
+    if (written_[static_cast<std::size_t>(index)]) {
+      throw InputError(images_path_ + ": frame " + std::to_string(index) + " written twice");
+    }
+    written_[static_cast<std::size_t>(index)] = true;
+  }
+  std::vector<float> plane = takeBuffer();
+  const std::size_t plane_bytes = plane.size() * sizeof(float);
+  // (1, N, 1, 3, H, W): frame i's three planes follow the header at i * 3 planes.
+  const std::size_t image_offset =
+      images_header_ + static_cast<std::size_t>(index) * 3 * plane_bytes;
   // RGB order: plane 0 is red, i.e. OpenCV channel 2.
-  for (int plane = 0; plane < 3; ++plane) {
-    const int channel = 2 - plane;
-    float* out = plane_.data();
+  for (int p = 0; p < 3; ++p) {
+    const int channel = 2 - p;
+    float* out = plane.data();
     for (int r = 0; r < size_.height; ++r) {
       const std::uint8_t* m = frame.mask.ptr<std::uint8_t>(r);
       if (has_signed) {
@@ -95,29 +173,38 @@ void Gen3cExportWriter::append(const RenderedFrame& frame) {
         }
       }
     }
-    images_.write(reinterpret_cast<const char*>(plane_.data()), plane_bytes);
+    writeAt(images_fd_, images_path_, plane, image_offset + static_cast<std::size_t>(p) * plane_bytes);
   }
-  float* out = plane_.data();
+  float* out = plane.data();
   for (int r = 0; r < size_.height; ++r) {
     const std::uint8_t* m = frame.mask.ptr<std::uint8_t>(r);
     for (int c = 0; c < size_.width; ++c)
       *out++ = m[c] != 0 ? 1.0f : 0.0f;
   }
-  masks_.write(reinterpret_cast<const char*>(plane_.data()), plane_bytes);
-  if (!images_ || !masks_) throw InputError(images_path_ + ": write failed (disk full?)");
-  ++written_;
+  writeAt(masks_fd_, masks_path_, plane,
+          masks_header_ + static_cast<std::size_t>(index) * plane_bytes);
+  returnBuffer(std::move(plane));
 }
 
 void Gen3cExportWriter::finish() {
-  if (finished_) return;
-  finished_ = true;
-  images_.close();
-  masks_.close();
-  if (written_ != num_frames_) {
-    throw InputError(images_path_ + ": " + std::to_string(written_) + " frames written but the " +
+  std::size_t count = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (finished_) return;
+    finished_ = true;
+    for (bool w : written_)
+      count += w;
+    buffers_.clear();
+  }
+  const int images_closed = ::close(images_fd_), masks_closed = ::close(masks_fd_);
+  images_fd_ = masks_fd_ = -1;
+  if (count != static_cast<std::size_t>(num_frames_)) {
+    throw InputError(images_path_ + ": " + std::to_string(count) + " frames written but the " +
                      "header declares " + std::to_string(num_frames_));
   }
-  if (images_.fail() || masks_.fail()) throw InputError(images_path_ + ": closing failed");
+  if (images_closed != 0 || masks_closed != 0) {
+    throw InputError(images_path_ + ": closing failed (" + std::strerror(errno) + ")");
+  }
 }
 
 void writeGen3cCompanions(const std::string& directory, const cv::Mat& input_image_bgr,

@@ -5,8 +5,11 @@
 
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
+#include "../input_error.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "multimodal_nvs/core/render/backprojection.hpp"
@@ -112,4 +115,59 @@ TEST(Gen3cExport, CountAndSizeMismatchesAreErrors) {
   EXPECT_THROW(short_writer.finish(), mm::InputError);
   mm::Gen3cExportWriter wrong_size(dir, 1, {4, 6});
   EXPECT_THROW(wrong_size.append(frame), mm::InputError);
+}
+
+TEST(Gen3cExport, FramesWrittenFromThreadsInAnyOrderGiveTheSameBytes) {
+  const int frames = 6;
+  const mm::ImageSize size{5, 7};
+  std::vector<mm::RenderedFrame> rendered(frames);
+  cv::RNG rng(11);
+  for (mm::RenderedFrame& f : rendered) {
+    f.bgr.create(size.height, size.width, CV_8UC3);
+    f.mask.create(size.height, size.width, CV_8UC1);
+    rng.fill(f.bgr, cv::RNG::UNIFORM, 0, 256);
+    rng.fill(f.mask, cv::RNG::UNIFORM, 0, 2);
+  }
+  const auto bytes = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string in_order = tempDir("in_order"), shuffled = tempDir("shuffled");
+  {
+    mm::Gen3cExportWriter writer(in_order, frames, size);
+    for (const mm::RenderedFrame& f : rendered)
+      writer.append(f);
+    writer.finish();
+  }
+  {
+    mm::Gen3cExportWriter writer(shuffled, frames, size);
+    // Two threads, each from the back: odd frames on one, even frames on the other.
+    std::thread odd([&] {
+      for (int i = frames - 1; i >= 0; i -= 2)
+        writer.write(i, rendered[i]);
+    });
+    for (int i = frames - 2; i >= 0; i -= 2)
+      writer.write(i, rendered[i]);
+    odd.join();
+    EXPECT_THROW(writer.write(3, rendered[3]), mm::InputError);  // each index once
+    EXPECT_THROW(writer.write(frames, rendered[0]), mm::InputError);
+    writer.finish();
+  }
+  for (const char* name : {"/rendered_warp_images.npy", "/rendered_warp_masks.npy"}) {
+    const std::string a = bytes(in_order + name), b = bytes(shuffled + name);
+    EXPECT_GT(a.size(), 5u * 7u * frames * sizeof(float));
+    EXPECT_EQ(a, b) << name;
+  }
+}
+
+TEST(Gen3cExport, AMissingFrameFailsFinish) {
+  const std::string dir = tempDir("missing");
+  mm::RenderedFrame frame;
+  frame.bgr = cv::Mat::zeros(4, 5, CV_8UC3);
+  frame.mask = cv::Mat::zeros(4, 5, CV_8UC1);
+  mm::Gen3cExportWriter writer(dir, 3, {4, 5});
+  writer.write(0, frame);
+  writer.write(2, frame);
+  EXPECT_NE(mm::test::inputErrorOf([&] { writer.finish(); }).find("2 frames written"),
+            std::string::npos);
 }

@@ -105,6 +105,8 @@ class Gen3cBurstExport {
                    ImageSize size, Gen3cFolderWrite write);
 
   void append(const RenderedFrame& frame) { writer_->append(frame); }
+  /// Frame `index`, from any thread, in any order (Gen3cExportWriter::write).
+  void write(int index, const RenderedFrame& frame) { writer_->write(index, frame); }
   /// Checks the frame count, closes the arrays and, for kRenameWhenComplete, renames the folder.
   void finish();
 
