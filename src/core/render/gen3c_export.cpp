@@ -173,7 +173,8 @@ void Gen3cExportWriter::write(int index, const RenderedFrame& frame) {
         }
       }
     }
-    writeAt(images_fd_, images_path_, plane, image_offset + static_cast<std::size_t>(p) * plane_bytes);
+    writeAt(images_fd_, images_path_, plane,
+            image_offset + static_cast<std::size_t>(p) * plane_bytes);
   }
   float* out = plane.data();
   for (int r = 0; r < size_.height; ++r) {
