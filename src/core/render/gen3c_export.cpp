@@ -68,6 +68,12 @@ void writeFully(int fd, const std::string& path, const char* data, std::size_t b
   }
 }
 
+void writePlane(int fd, const std::string& path, const std::vector<float>& plane,
+                std::size_t offset) {
+  writeFully(fd, path, reinterpret_cast<const char*>(plane.data()), plane.size() * sizeof(float),
+             offset);
+}
+
 }  // namespace
 
 Gen3cExportWriter::Gen3cExportWriter(const std::string& directory, int num_frames, ImageSize size)
@@ -122,12 +128,6 @@ void Gen3cExportWriter::returnBuffer(std::vector<float>&& buffer) {
   buffers_.push_back(std::move(buffer));
 }
 
-void Gen3cExportWriter::writeAt(int fd, const std::string& path, const std::vector<float>& plane,
-                                std::size_t offset) {
-  writeFully(fd, path, reinterpret_cast<const char*>(plane.data()), plane.size() * sizeof(float),
-             offset);
-}
-
 void Gen3cExportWriter::write(int index, const RenderedFrame& frame) {
   if (index < 0 || index >= num_frames_) {
     throw InputError(images_path_ + ": frame " + std::to_string(index) + " is not among the " +
@@ -173,8 +173,8 @@ void Gen3cExportWriter::write(int index, const RenderedFrame& frame) {
         }
       }
     }
-    writeAt(images_fd_, images_path_, plane,
-            image_offset + static_cast<std::size_t>(p) * plane_bytes);
+    writePlane(images_fd_, images_path_, plane,
+               image_offset + static_cast<std::size_t>(p) * plane_bytes);
   }
   float* out = plane.data();
   for (int r = 0; r < size_.height; ++r) {
@@ -182,8 +182,8 @@ void Gen3cExportWriter::write(int index, const RenderedFrame& frame) {
     for (int c = 0; c < size_.width; ++c)
       *out++ = m[c] != 0 ? 1.0f : 0.0f;
   }
-  writeAt(masks_fd_, masks_path_, plane,
-          masks_header_ + static_cast<std::size_t>(index) * plane_bytes);
+  writePlane(masks_fd_, masks_path_, plane,
+             masks_header_ + static_cast<std::size_t>(index) * plane_bytes);
   returnBuffer(std::move(plane));
 }
 

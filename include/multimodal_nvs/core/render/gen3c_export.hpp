@@ -49,8 +49,6 @@ class Gen3cExportWriter {
  private:
   std::vector<float> takeBuffer();
   void returnBuffer(std::vector<float>&& buffer);
-  void writeAt(int fd, const std::string& path, const std::vector<float>& plane,
-               std::size_t offset);
 
   std::string images_path_, masks_path_;
   int images_fd_ = -1, masks_fd_ = -1;
