@@ -71,25 +71,10 @@ def node_pid(master, name):
         return None
 
 
-class Counter:
-    def __init__(self, topic):
-        self.count = 0
-        self.lock = threading.Lock()
-        self.sub = rospy.Subscriber(topic, rospy.AnyMsg, self.callback, queue_size=100)
-
-    def callback(self, _):
-        with self.lock:
-            self.count += 1
-
-    def value(self):
-        with self.lock:
-            return self.count
-
-
 class StampLog:
     """Header stamps of a topic's messages in arrival order, read from the serialized message
-    (std_msgs/Header is the first field of both PointCloud2 and DepthCompletionStats: uint32 seq,
-    uint32 secs, uint32 nsecs), so that no message type has to be deserialized."""
+    (std_msgs/Header is the first field of PointCloud2, DepthCompletionStats and Image: uint32
+    seq, uint32 secs, uint32 nsecs), so that no message type has to be deserialized."""
 
     def __init__(self, topic):
         self.stamps = []
@@ -104,6 +89,10 @@ class StampLog:
     def snapshot(self):
         with self.lock:
             return list(self.stamps)
+
+    def count(self):
+        with self.lock:
+            return len(self.stamps)
 
 
 def match_outputs(inputs, outputs, in_begin, in_end, out_begin, lookback=10, horizon=200):
@@ -185,13 +174,13 @@ def main():
     rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics, queue_size=20)
     frames_in = StampLog(args.points)
     frames_out = StampLog("/depth/stats")
-    renders = Counter("/conditioning/image")
+    renders = StampLog("/conditioning/image")
 
     # Wait for the pipeline to answer (nodelets loaded, subscriptions made, the bag playing).
     deadline = time.time() + 120.0
-    while not rospy.is_shutdown() and not frames_out.snapshot() and time.time() < deadline:
+    while not rospy.is_shutdown() and not frames_out.count() and time.time() < deadline:
         time.sleep(0.2)
-    if not frames_out.snapshot():
+    if not frames_out.count():
         print("soak: the pipeline published no depth/stats within 120 s", file=sys.stderr)
         return 1
     pids = {name: node_pid(master, name) for name in args.processes}
@@ -214,9 +203,9 @@ def main():
     start = time.time()
     # Output first: every output counted from here on came from an input at or after in_begin - a
     # few, which match_outputs searches.
-    out_begin = len(frames_out.snapshot())
-    in_begin = len(frames_in.snapshot())
-    base_renders = renders.value()
+    out_begin = frames_out.count()
+    in_begin = frames_in.count()
+    base_renders = renders.count()
     samples = []  # (seconds since start, RSS MB of the main process)
     changes_made = 0
     next_change = start + rng.expovariate(1.0 / args.reconfigure_period)
@@ -240,13 +229,13 @@ def main():
             next_change = now + rng.expovariate(1.0 / args.reconfigure_period)
         time.sleep(1.0)
     elapsed = time.time() - start
-    in_end = len(frames_in.snapshot())
+    in_end = frames_in.count()
     time.sleep(2.0)  # frames in flight at the end
     inputs = frames_in.snapshot()
     n_in = in_end - in_begin
     n_out, unmatched, repeated = match_outputs(inputs, frames_out.snapshot(), in_begin, in_end,
                                                out_begin)
-    n_renders = renders.value() - base_renders
+    n_renders = renders.count() - base_renders
 
     crashed = [name for name, pid in pids.items() if node_pid(master, name) != pid]
     warm = [rss for t, rss in samples if t >= min(args.warmup, args.duration / 2)]
