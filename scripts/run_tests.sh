@@ -24,6 +24,23 @@ if [[ "${SANITIZERS:-1}" != 0 ]]; then
   scripts/sanitizer_tests.sh "$BUILD_DIR" || echo "[sanitizers] FAILED (counted below)"
 fi
 
+# The failing test cases by name, next to the summary: CI keeps only the tail of this output.
+/usr/bin/python3 - "$BUILD_DIR/test_results" <<'PY'
+import pathlib, sys, xml.etree.ElementTree as ET
+for path in sorted(pathlib.Path(sys.argv[1]).rglob("*.xml")):
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as error:
+        print(f"FAILED {path}: unreadable result file ({error})")
+        continue
+    for case in root.iter("testcase"):
+        problem = case.find("failure") if case.find("failure") is not None else case.find("error")
+        if problem is not None:
+            message = (problem.get("message") or problem.text or "").strip().splitlines()
+            print(f"FAILED {path.name}: {case.get('classname')}.{case.get('name')}")
+            for line in message[:8]:
+                print(f"    {line[:300]}")
+PY
 summary=$(catkin_test_results --all "$BUILD_DIR/test_results" 2>&1 | tail -n 1)
 echo "$summary"
 # "Summary: 52 tests, 0 errors, 1 failures, 3 skipped"

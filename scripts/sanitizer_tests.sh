@@ -56,14 +56,16 @@ junit_write() {  # suite name, file
 
 # configure NAME CXX_FLAGS: a catkin configure into BUILD_DIR/NAME with the sanitizer's flags.
 # Below BUILD_DIR, so that rosrun (which skips <package>/build/) never finds their executables.
-# RelWithDebInfo without -DNDEBUG: optimised (the sanitizers already cost 2-20x) but with line
-# numbers in reports and Eigen's and libstdc++'s bounds assertions on.
+# RelWithDebInfo without -DNDEBUG: -O1 (what the sanitizers' own documentation suggests) with
+# -g1 (line tables, no variable info): reports keep file:line, Eigen's and libstdc++'s bounds
+# assertions stay on. Measured on test_ground_gp.cpp under ASan: -O2 -g 29.4 s, -O1 -g1 11.2 s;
+# the sanitizer builds were more than half of CI's `make test`.
 configure() {
   local dir=${BUILD_DIR}/$1 flags=$2
   cmake -S . -B "$dir" -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON \
     -DCATKIN_DEVEL_PREFIX="$(devel_dir "$dir")" \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" \
-    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g" -DCMAKE_CXX_FLAGS="$flags" \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
+    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_CXX_FLAGS="$flags" \
     -DCMAKE_EXE_LINKER_FLAGS="$flags" -DCMAKE_SHARED_LINKER_FLAGS="$flags"
 }
 

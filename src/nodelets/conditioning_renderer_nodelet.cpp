@@ -86,7 +86,12 @@ class ConditioningRendererNodelet : public nodelet::Nodelet {
   int camera_queue_size_ = 30;
   int publisher_queue_size_ = 10;
   int max_live_backlog_ = 8;
-  ros::Duration tf_timeout_;
+  // How long an input may wait, counted from its arrival, for tf to reach its stamp: a bag or a
+  // driver often publishes the camera image before the /tf that holds its pose. Counted from the
+  // arrival (not from the lookup) so that the images queued behind a missing transform wait with
+  // it, not one timeout after another.
+  std::chrono::steady_clock::duration tf_timeout_{};
+  std::chrono::steady_clock::time_point pose_deadline_;  // of the input being served; state_mutex_
 
   // Inputs (exact-time sync), subscribed only while an output has a subscriber or a preset burst
   // is exported.
@@ -149,7 +154,8 @@ void ConditioningRendererNodelet::onInit() {
   camera_queue_size_ = pnh.param("camera_queue_size", 30);
   publisher_queue_size_ = pnh.param("publisher_queue_size", 10);
   max_live_backlog_ = std::max(1, pnh.param("max_live_backlog", 8));
-  tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
+  tf_timeout_ = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(std::max(0.0, pnh.param("tf_timeout", 0.5))));
 
   tf_buffer_ = std::make_unique<tf2_ros::Buffer>();
   tf_listener_ = std::make_unique<tf2_ros::TransformListener>(*tf_buffer_, nh);
@@ -285,6 +291,7 @@ void ConditioningRendererNodelet::serveInputs() {
     std::lock_guard<std::mutex> lock(state_mutex_);
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const PendingInput& in = batch[i];
+      pose_deadline_ = in.arrival + tf_timeout_;
       if (!in.depth) {
         count(session_->onCameraImage(*in.image, settings, in.arrival, render[i]));
         continue;
@@ -300,10 +307,13 @@ void ConditioningRendererNodelet::serveInputs() {
 rc::RendererStatus ConditioningRendererNodelet::lookupCameraPose(const std::string& world_frame,
                                                                  const std_msgs::Header& header,
                                                                  Eigen::Matrix4d& camera_to_world) {
+  const double wait_s = std::max(
+      0.0,
+      std::chrono::duration<double>(pose_deadline_ - std::chrono::steady_clock::now()).count());
   try {
     camera_to_world =
-        tf2::transformToEigen(
-            tf_buffer_->lookupTransform(world_frame, header.frame_id, header.stamp, tf_timeout_))
+        tf2::transformToEigen(tf_buffer_->lookupTransform(world_frame, header.frame_id,
+                                                          header.stamp, ros::Duration(wait_s)))
             .matrix();
     return rc::RendererStatus::success();
   } catch (const tf2::TransformException& e) {

@@ -326,6 +326,19 @@ TEST_F(RendererTest, TfModeRendersTheKeyframeIntoTheLiveCameraPose) {
     }
   }
 
+  // The image before its pose (a player's /tf on another connection, a slow tf publisher): held
+  // until tf reaches its stamp (tf_timeout 0.5 s from its arrival), then rendered like the others.
+  const ros::Time late_pose = ros::Time::now();
+  publish(goodSet(late_pose, 1));
+  ros::WallDuration(0.25).sleep();
+  sendPose(late_pose, 0.1);
+  ASSERT_TRUE(waitFor([&] { return complete(late_pose); }, 10.0))
+      << "an image whose pose came 0.25 s after it was not rendered";
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    EXPECT_GT(expectShiftedColours(out_, late_pose, 2), kH * kW * 8 / 10);
+  }
+
   // ~set_keyframe: the next set (at 0.1 m) is the new reference; a set back at 0 m then shows the
   // plane 2 pixels to the right.
   std::string message;
