@@ -30,6 +30,7 @@
 #                    regenerated only when its arguments, scale or frame count change
 #   EVAL_SCENE_SCALE image scale of the synthetic scenes (default 0.5: 968x608)
 #   EVAL_RETENTION   retention (%) of the novel-view depth (default 80, config/radar.yaml's)
+#   EVAL_MODEL_ARGS  extra options of every depth run (tuning on dev: "--guided-lambda 1000")
 #   EVAL_SCENE_DEPTH_FRAMES frames of the synthetic depth metrics (default 0, the novel-view frame)
 #   EVAL_KEEP_FRAMES=1 keeps the rendered frames of the novel-view runs
 #
@@ -148,11 +149,11 @@ try_json() {
 }
 
 # model_args MODEL INPUT [all]: extra arguments of a model on LiDAR input ("all": every return,
-# as the novel views use, rather than 1 in 4).
+# as the novel views use, rather than 1 in 4), then EVAL_MODEL_ARGS (every depth run).
 model_args() {
   [[ "$1" == local_gp_mle && "$2" == lidar ]] && echo "${LIDAR_GP_ARGS[@]}"
   [[ "$1" == kernel && "$2" == lidar && "${3:-}" == all ]] && echo "${LIDAR_KERNEL_ARGS[@]}"
-  return 0
+  echo "${EVAL_MODEL_ARGS:-}"
 }
 
 # depth_runs SUITE ROOT FRAMES INPUTS RADAR_STRIDE [ROOT_OPTION]: depth from each input, every
@@ -168,7 +169,8 @@ depth_runs() {
       # shellcheck disable=SC2046
       if [[ "$input" == radar ]]; then
         try_json "$dir/radar_$model.line" "$TOOLS/evaluate_depth" "${common[@]}" --input radar \
-          --model "$model" --stride "$radar_stride" --retain-percent 100,80,60,40 \
+          --model "$model" $(model_args "$model" radar) --stride "$radar_stride" \
+          --retain-percent 100,80,60,40 \
           --output "$dir/radar_$model.json" || rm -f "$dir/radar_$model.json"
       else
         try_json "$dir/lidar_$model.line" "$TOOLS/evaluate_depth" "${common[@]}" --input lidar \
