@@ -34,7 +34,7 @@ for path in sorted(pathlib.Path(sys.argv[1]).rglob("*.xml")):
         print(f"FAILED {path}: unreadable result file ({error})")
         continue
     for case in root.iter("testcase"):
-        problem = case.find("failure") if case.find("failure") is not None else case.find("error")
+        problem = next((child for child in case if child.tag in ("failure", "error")), None)
         if problem is not None:
             message = (problem.get("message") or problem.text or "").strip().splitlines()
             print(f"FAILED {path.name}: {case.get('classname')}.{case.get('name')}")
