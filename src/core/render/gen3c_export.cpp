@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -68,10 +69,14 @@ void writeFully(int fd, const std::string& path, const char* data, std::size_t b
   }
 }
 
-void writePlane(int fd, const std::string& path, const std::vector<float>& plane,
-                std::size_t offset) {
-  writeFully(fd, path, reinterpret_cast<const char*>(plane.data()), plane.size() * sizeof(float),
-             offset);
+/// Rows per block: conversion and write go block by block so that the kernel's copy into the page
+/// cache reads a buffer still in the core's cache. Whole 3.6 MB planes ran the copy at DRAM speed
+/// while the other core rendered: writing 1.7 GB took about twice as long as in 512 KB blocks
+/// (measured with a second thread streaming memory, as the export's splatter does).
+int rowsPerBlock(int width) {
+  constexpr std::size_t kBlockBytes = 512 * 1024;
+  return std::max(
+      1, static_cast<int>(kBlockBytes / (static_cast<std::size_t>(width) * sizeof(float))));
 }
 
 }  // namespace
@@ -120,7 +125,8 @@ std::vector<float> Gen3cExportWriter::takeBuffer() {
       return buffer;
     }
   }
-  return std::vector<float>(static_cast<std::size_t>(size_.pixels()));
+  return std::vector<float>(static_cast<std::size_t>(rowsPerBlock(size_.width)) *
+                            static_cast<std::size_t>(size_.width));
 }
 
 void Gen3cExportWriter::returnBuffer(std::vector<float>&& buffer) {
@@ -151,40 +157,48 @@ void Gen3cExportWriter::write(int index, const RenderedFrame& frame) {
     }
     written_[static_cast<std::size_t>(index)] = true;
   }
-  std::vector<float> plane = takeBuffer();
-  const std::size_t plane_bytes = plane.size() * sizeof(float);
+  std::vector<float> block = takeBuffer();
+  const std::size_t row_bytes = static_cast<std::size_t>(size_.width) * sizeof(float);
+  const std::size_t plane_bytes = row_bytes * static_cast<std::size_t>(size_.height);
+  const int block_rows = rowsPerBlock(size_.width);
   // (1, N, 1, 3, H, W): frame i's three planes follow the header at i * 3 planes.
   const std::size_t image_offset =
       images_header_ + static_cast<std::size_t>(index) * 3 * plane_bytes;
-  // RGB order: plane 0 is red, i.e. OpenCV channel 2.
-  for (int p = 0; p < 3; ++p) {
-    const int channel = 2 - p;
-    float* out = plane.data();
-    for (int r = 0; r < size_.height; ++r) {
-      const std::uint8_t* m = frame.mask.ptr<std::uint8_t>(r);
-      if (has_signed) {
-        const cv::Vec3f* s = frame.signed_bgr.ptr<cv::Vec3f>(r);
-        for (int c = 0; c < size_.width; ++c)
-          *out++ = m[c] != 0 ? s[c][channel] : -1.0f;
-      } else {
-        const cv::Vec3b* b = frame.bgr.ptr<cv::Vec3b>(r);
-        for (int c = 0; c < size_.width; ++c) {
-          *out++ = m[c] != 0 ? static_cast<float>(b[c][channel]) / 127.5f - 1.0f : -1.0f;
+  const std::size_t mask_offset = masks_header_ + static_cast<std::size_t>(index) * plane_bytes;
+  for (int first = 0; first < size_.height; first += block_rows) {
+    const int last = std::min(size_.height, first + block_rows);
+    const std::size_t block_offset = static_cast<std::size_t>(first) * row_bytes;
+    const std::size_t block_bytes = static_cast<std::size_t>(last - first) * row_bytes;
+    // RGB order: plane 0 is red, i.e. OpenCV channel 2.
+    for (int p = 0; p < 3; ++p) {
+      const int channel = 2 - p;
+      float* out = block.data();
+      for (int r = first; r < last; ++r) {
+        const std::uint8_t* m = frame.mask.ptr<std::uint8_t>(r);
+        if (has_signed) {
+          const cv::Vec3f* s = frame.signed_bgr.ptr<cv::Vec3f>(r);
+          for (int c = 0; c < size_.width; ++c)
+            *out++ = m[c] != 0 ? s[c][channel] : -1.0f;
+        } else {
+          const cv::Vec3b* b = frame.bgr.ptr<cv::Vec3b>(r);
+          for (int c = 0; c < size_.width; ++c) {
+            *out++ = m[c] != 0 ? static_cast<float>(b[c][channel]) / 127.5f - 1.0f : -1.0f;
+          }
         }
       }
+      writeFully(images_fd_, images_path_, reinterpret_cast<const char*>(block.data()), block_bytes,
+                 image_offset + static_cast<std::size_t>(p) * plane_bytes + block_offset);
     }
-    writePlane(images_fd_, images_path_, plane,
-               image_offset + static_cast<std::size_t>(p) * plane_bytes);
+    float* out = block.data();
+    for (int r = first; r < last; ++r) {
+      const std::uint8_t* m = frame.mask.ptr<std::uint8_t>(r);
+      for (int c = 0; c < size_.width; ++c)
+        *out++ = m[c] != 0 ? 1.0f : 0.0f;
+    }
+    writeFully(masks_fd_, masks_path_, reinterpret_cast<const char*>(block.data()), block_bytes,
+               mask_offset + block_offset);
   }
-  float* out = plane.data();
-  for (int r = 0; r < size_.height; ++r) {
-    const std::uint8_t* m = frame.mask.ptr<std::uint8_t>(r);
-    for (int c = 0; c < size_.width; ++c)
-      *out++ = m[c] != 0 ? 1.0f : 0.0f;
-  }
-  writePlane(masks_fd_, masks_path_, plane,
-             masks_header_ + static_cast<std::size_t>(index) * plane_bytes);
-  returnBuffer(std::move(plane));
+  returnBuffer(std::move(block));
 }
 
 void Gen3cExportWriter::finish() {

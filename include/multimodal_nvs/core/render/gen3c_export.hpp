@@ -58,7 +58,7 @@ class Gen3cExportWriter {
   int appended_ = 0;
   std::mutex mutex_;  ///< guards written_, buffers_ and finished_
   std::vector<bool> written_;
-  /// One plane per thread writing at the moment, kept: a fresh 3.6 MB buffer per plane would be
+  /// One block of rows per thread writing at the moment, kept: a fresh buffer per frame would be
   /// faulted in page by page every time.
   std::vector<std::vector<float>> buffers_;
   bool finished_ = false;
