@@ -17,8 +17,9 @@ PACKAGES=(
   # The soak monitor and demo scripts (rospy, rosgraph, diagnostic_msgs).
   python3-rospy python3-rosgraph python3-diagnostic-msgs
   libeigen3-dev libopencv-dev libopencv-contrib-dev libyaml-cpp-dev libcgal-dev libgtest-dev libgmock-dev libbenchmark-dev
-  # PCD files through PCL's reader (the core links pcl_io and pcl_common); GMP for CGAL.
-  libpcl-dev libgmp-dev
+  # PCD files through PCL's reader (the core links pcl_io and pcl_common); GMP for CGAL; libdeflate
+  # for the exports' PNGs.
+  libpcl-dev libgmp-dev libdeflate-dev
   # JSON (pose files, tool output) and the tools' command lines.
   nlohmann-json3-dev libcli11-dev
   # Hardening: libFuzzer harnesses and the sanitizer builds use Debian's clang and its runtime.

@@ -268,6 +268,35 @@ TEST_F(RenderConditioningTool, StrideGridDepthAndRecordedPosesWithGroundTruth) {
   EXPECT_NE(metrics.find("\"coverage\""), std::string::npos);
 }
 
+TEST_F(RenderConditioningTool, PngLevelChangesTheFileSizeNotThePixels) {
+  // Frames are stored uncompressed by default (speed); --png-level compresses them. Both decode to
+  // the same pixels, and the masks are compressed either way.
+  const std::string args = common_ + " --valid " + dir() + "valid.npy" + kIntrinsics +
+                           " --preset forward --magnitude 0.5 --num-frames 2 --size 120 160";
+  const std::string stored = dir() + "out_png_stored", packed = dir() + "out_png_6";
+  const RunResult a = runTool(args + " --output " + stored);
+  ASSERT_EQ(a.exit_code, 0) << a.all;
+  const RunResult b = runTool(args + " --png-level 6 --output " + packed);
+  ASSERT_EQ(b.exit_code, 0) << b.all;
+  const auto bytes = [](const std::string& path) {
+    return static_cast<long>(std::ifstream(path, std::ios::binary | std::ios::ate).tellg());
+  };
+  for (const char* name : {"000", "001"}) {
+    const std::string f = std::string("/frames/") + name + ".png";
+    const std::string m = std::string("/masks/") + name + ".png";
+    const cv::Mat frame_a = cv::imread(stored + f, cv::IMREAD_UNCHANGED);
+    const cv::Mat frame_b = cv::imread(packed + f, cv::IMREAD_UNCHANGED);
+    ASSERT_FALSE(frame_a.empty() || frame_b.empty()) << name;
+    EXPECT_EQ(cv::norm(frame_a, frame_b, cv::NORM_INF), 0.0) << name;
+    EXPECT_GE(bytes(stored + f), 120L * (160 * 3 + 1)) << "default frames are stored";
+    EXPECT_LT(bytes(packed + f), bytes(stored + f));
+    EXPECT_LT(bytes(stored + m), 120L * 161 / 2) << "masks are compressed at the default too";
+  }
+  const RunResult bad = runTool(args + " --png-level 13 --output " + dir() + "out_png_bad");
+  EXPECT_EQ(bad.exit_code, 2) << bad.all;
+  EXPECT_NE(bad.all.find("--png-level"), std::string::npos) << bad.all;
+}
+
 TEST_F(RenderConditioningTool, BadInputGivesExitCodeAndAClearMessage) {
   const std::string preset = " --preset forward --magnitude 1 --num-frames 2 --size 24 32";
   const std::string out = " --output " + dir() + "out_bad";
