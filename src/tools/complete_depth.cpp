@@ -268,6 +268,12 @@ double computeFrame(const Options& o, const FrameJob& job, const LoadedFrame& f,
   json["points_non_finite"] = s.points_non_finite;
   json["points_in_view"] = s.points_in_view;
   json["neighbour_sets"] = s.neighbour_sets;
+  if (!s.ground_mode.empty()) {  // ground_gp, image_guided: which plane and mode ran, and why
+    json["ground_source"] = s.ground_source;
+    json["ground_mode"] = s.ground_mode;
+    json["ground_inlier_fraction"] = mm::json::number(s.ground_inlier_fraction, 4);
+    json["ground_scan_line_share"] = mm::json::number(s.ground_scan_line_share, 4);
+  }
   json["shift"] = mm::json::number(s.shift, 6);
   json["threads"] = completer.threads();
   json["compute_ms"] = mm::json::number(times.front(), 6);

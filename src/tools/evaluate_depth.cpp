@@ -179,6 +179,8 @@ struct FrameResult {
   std::size_t input_points = 0, input_in_view = 0, gt_points = 0;
   double runtime_ms = std::numeric_limits<double>::quiet_NaN();
   std::string ground_source, ground_mode;  // ground_gp: its plane's source and its mode
+  double ground_inlier_fraction = 0.0;     // of the ground-plane fit (what chose the mode)
+  double ground_scan_line_share = -1.0;    // returns along scan lines (-1: not needed)
   std::vector<RetentionResult> retention;
 };
 
@@ -399,6 +401,8 @@ int run(int argc, char** argv) {
       res.input_in_view = map.stats.points_in_view;
       res.ground_source = map.stats.ground_source;
       res.ground_mode = map.stats.ground_mode;
+      res.ground_inlier_fraction = map.stats.ground_inlier_fraction;
+      res.ground_scan_line_share = map.stats.ground_scan_line_share;
       depth.swap(map.depth);
       variance.swap(map.variance);
       predicted.swap(map.valid);
@@ -482,6 +486,8 @@ int run(int argc, char** argv) {
     if (!f.ground_mode.empty()) {  // ground_gp, image_guided: its plane's source and its mode
       per_frame.back()["ground_source"] = f.ground_source;
       per_frame.back()["ground_mode"] = f.ground_mode;
+      per_frame.back()["ground_inlier_fraction"] = mm::json::number(f.ground_inlier_fraction);
+      per_frame.back()["ground_scan_line_share"] = mm::json::number(f.ground_scan_line_share);
     }
     per_frame.back()["retention"] = retention;
   }

@@ -30,6 +30,14 @@ constexpr double kBelowM = 0.5, kMaxBelowFraction = 0.05;
 // then counted on every return.
 constexpr std::size_t kMaxFitPoints = 4000;
 constexpr int kMaxIterations = 200;
+// Scan lines: a nearest neighbour within this angle of horizontal counts as along a row; the share
+// that makes returns LiDAR rings (scattered returns: ~0.22, radar measured at most 0.31, LiDAR at
+// least 0.51); the ground share they need besides (a 2D scanner's single line has no ground
+// returns; LiDAR measured at least 0.19).
+constexpr double kScanLineSlopeDeg = 20.0;
+constexpr double kScanLineShare = 0.4;
+constexpr double kScanLineGroundFraction = 0.1;
+constexpr std::size_t kMaxScanLineQueries = 2000;
 
 struct InView {
   std::vector<Eigen::Vector3d> points;
@@ -129,7 +137,112 @@ void refineOnInliers(const std::vector<Eigen::Vector3d>& points, double distance
   normal = refined.normalized();
   offset = -normal.dot(mean);
 }
+// The returns' (azimuth, elevation) in buckets of a uniform grid, for exact nearest-neighbour
+// queries by rings of cells. Hand-written: the core links no k-d tree library, and two thousand
+// queries in a 2D grid cost well under a millisecond.
+class AngularGridIndex {
+ public:
+  AngularGridIndex(const std::vector<Eigen::Vector2d>& points, double cell_deg)
+      : points_(points), cell_(cell_deg) {
+    lo_ = hi_ = points.front();
+    for (const Eigen::Vector2d& p : points) {
+      lo_ = lo_.cwiseMin(p);
+      hi_ = hi_.cwiseMax(p);
+    }
+    cols_ = static_cast<int>((hi_.x() - lo_.x()) / cell_) + 1;
+    rows_ = static_cast<int>((hi_.y() - lo_.y()) / cell_) + 1;
+    start_.assign(std::size_t(cols_) * rows_ + 1, 0);
+    for (const Eigen::Vector2d& p : points)
+      ++start_[cellOf(p) + 1];
+    for (std::size_t c = 1; c < start_.size(); ++c)
+      start_[c] += start_[c - 1];
+    order_.resize(points.size());
+    std::vector<int> next(start_.begin(), start_.end() - 1);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      order_[next[cellOf(points[i])]++] = static_cast<int>(i);
+  }
+
+  /// The nearest point to points[query] other than itself (-1 if there is none).
+  int nearestOther(std::size_t query) const {
+    const Eigen::Vector2d& q = points_[query];
+    const int qc = column(q.x()), qr = row(q.y());
+    int best = -1;
+    double best_d2 = INFINITY;
+    for (int ring = 0; ring <= std::max(cols_, rows_); ++ring) {
+      // Every point outside the searched square is at least `ring` cells away.
+      const double reach = (ring - 1) * cell_;
+      if (best >= 0 && ring > 0 && reach * reach >= best_d2) break;
+      for (int r = qr - ring; r <= qr + ring; ++r) {
+        if (r < 0 || r >= rows_) continue;
+        const bool edge_row = r == qr - ring || r == qr + ring;
+        for (int c = qc - ring; c <= qc + ring; c += edge_row ? 1 : 2 * std::max(ring, 1)) {
+          if (c < 0 || c >= cols_) continue;
+          const std::size_t cell = std::size_t(r) * cols_ + c;
+          for (int k = start_[cell]; k < start_[cell + 1]; ++k) {
+            const int i = order_[k];
+            if (std::size_t(i) == query) continue;
+            const double d2 = (points_[i] - q).squaredNorm();
+            if (d2 < best_d2) {
+              best_d2 = d2;
+              best = i;
+            }
+          }
+        }
+      }
+    }
+    return best;
+  }
+
+ private:
+  int column(double x) const {
+    return std::min(cols_ - 1, static_cast<int>((x - lo_.x()) / cell_));
+  }
+  int row(double y) const { return std::min(rows_ - 1, static_cast<int>((y - lo_.y()) / cell_)); }
+  std::size_t cellOf(const Eigen::Vector2d& p) const {
+    return std::size_t(row(p.y())) * cols_ + column(p.x());
+  }
+
+  const std::vector<Eigen::Vector2d>& points_;
+  double cell_;
+  Eigen::Vector2d lo_, hi_;
+  int cols_ = 1, rows_ = 1;
+  std::vector<int> start_, order_;
+};
 }  // namespace
+
+double scanLineShare(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles) {
+  const StrideGrid& grid = angles.grid();
+  const PinholeIntrinsics& k = angles.intrinsics();
+  std::vector<Eigen::Vector2d> points;
+  for (const AngularSample& s : samples) {
+    if (!(s.depth > 0.0f) || !std::isfinite(s.depth)) continue;
+    double u = 0.0, v = 0.0;
+    if (!angularToPixel(k, s.azimuth_deg, s.elevation_deg, &u, &v)) continue;
+    if (u < 0.0 || v < 0.0 || u > grid.image.width - 1 || v > grid.image.height - 1) continue;
+    points.emplace_back(s.azimuth_deg, s.elevation_deg);
+  }
+  if (points.size() < 2) return 0.0;
+  // Cells holding a few returns each on average over the returns' extent.
+  Eigen::Vector2d lo = points.front(), hi = points.front();
+  for (const Eigen::Vector2d& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double area = std::max(1e-6, (hi.x() - lo.x()) * (hi.y() - lo.y()));
+  const double cell = std::max(0.01, std::sqrt(4.0 * area / double(points.size())));
+  const AngularGridIndex index(points, cell);
+  const double slope = std::tan(kScanLineSlopeDeg * M_PI / 180.0);
+  const std::size_t every = (points.size() + kMaxScanLineQueries - 1) / kMaxScanLineQueries;
+  std::size_t queries = 0, along_rows = 0;
+  for (std::size_t q = 0; q < points.size(); q += every) {
+    const int nearest = index.nearestOther(q);
+    if (nearest < 0) continue;
+    const Eigen::Vector2d d = points[std::size_t(nearest)] - points[q];
+    ++queries;
+    along_rows += std::abs(d.y()) <= slope * std::abs(d.x());
+  }
+  return queries == 0 ? 0.0 : double(along_rows) / double(queries);
+}
 
 GroundPlane givenGroundPlane(const GroundPriorParams& g) {
   GroundPlane plane;
@@ -190,8 +303,15 @@ GroundChoice chooseGround(const std::vector<AngularSample>& samples, const Pixel
   }
   if (g.input != Input::kAuto) {
     choice.dense = g.input == Input::kDense;
+  } else if (precise) {
+    choice.dense = true;
   } else if (judged) {
-    choice.dense = precise;
+    // Rings of a LiDAR whose scan holds few road returns (a tall or pitched mount, traffic around):
+    // the inlier fraction alone took them for radar (measured on synthetic 16- and 64-beam scans:
+    // 0.19-0.23 on the road, MAE 3.4-6.3 m in the sparse mode against 2.4-2.9 m dense).
+    choice.scan_line_share = scanLineShare(samples, angles);
+    choice.dense =
+        choice.scan_line_share >= kScanLineShare && fit.inlier_fraction >= kScanLineGroundFraction;
   } else {
     choice.dense = groundInputIsDense(samples, angles, params);
   }

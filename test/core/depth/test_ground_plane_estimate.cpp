@@ -135,6 +135,102 @@ TEST(GroundPlaneEstimate, ReturnsOnOneScanPlaneOrTooFewGiveNoFit) {
   EXPECT_EQ(mm::chooseGround({}, angles, p).dense, mm::groundInputIsDense({}, angles, p));
 }
 
+namespace {
+// A scanning LiDAR seen by the small camera (level, 1.5 m above the road): rings every
+// `ring_step_deg` of elevation from +20 to -28 deg, a return every 0.4 deg of azimuth on each.
+// Above the horizon the rings hit a wall 15 m ahead; below it they hit the road, except where a
+// vehicle (8 m ahead) stands in `blocked` of every 10 deg of azimuth.
+std::vector<Eigen::Vector3d> ringScan(double ring_step_deg, double blocked) {
+  std::vector<Eigen::Vector3d> points;
+  for (double el = 20.0; el >= -28.0; el -= ring_step_deg) {
+    for (double az = -38.0; az <= 38.0; az += 0.4) {
+      const Eigen::Vector2d ray = mm::normalisedFromAngles(az, el);
+      double z = 15.0;
+      if (el < 0.0) {
+        const double in_period = std::fmod(az + 40.0, 10.0) / 10.0;
+        z = in_period < blocked ? 8.0 : 1.5 / ray.y();
+      }
+      points.push_back({ray.x() * z, ray.y() * z, z});
+    }
+  }
+  return points;
+}
+
+// The nearest-neighbour share along rows, by brute force (what scanLineShare must equal when every
+// return is a query).
+double bruteForceScanLineShare(const std::vector<mm::AngularSample>& samples) {
+  const double slope = std::tan(20.0 * kPi / 180.0);
+  std::size_t along = 0;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    double best = INFINITY, daz = 0, del = 0;
+    for (std::size_t j = 0; j < samples.size(); ++j) {
+      if (j == i) continue;
+      const double a = samples[j].azimuth_deg - samples[i].azimuth_deg;
+      const double e = samples[j].elevation_deg - samples[i].elevation_deg;
+      if (a * a + e * e < best) {
+        best = a * a + e * e;
+        daz = a;
+        del = e;
+      }
+    }
+    along += std::abs(del) <= slope * std::abs(daz);
+  }
+  return double(along) / double(samples.size());
+}
+}  // namespace
+
+TEST(GroundPlaneEstimate, LidarRingsWithFewRoadReturnsStillGiveTheDenseMode) {
+  // Traffic hides most of the road: too few road returns for the precision test, but the returns
+  // lie on scan lines, so the mode is dense (the inlier fraction alone chose the radar mode here).
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  for (double ring_step : {2.0, 1.0}) {  // 16- and 32-beam-like ring spacing
+    const auto samples = mm::toAngularSamples(ringScan(ring_step, 0.6));
+    const mm::GroundChoice choice = mm::chooseGround(samples, angles, params);
+    ASSERT_GT(choice.inlier_fraction, 0.1) << ring_step;
+    ASSERT_LT(choice.inlier_fraction, params.ground.precise_fraction) << ring_step;
+    EXPECT_GT(choice.scan_line_share, 0.9) << ring_step;
+    EXPECT_TRUE(choice.dense) << ring_step;
+    EXPECT_EQ(choice.source, mm::GroundPriorParams::PlaneSource::kParameters) << ring_step;
+  }
+  // The same scene as scattered returns (radar-like: no scan lines) stays sparse.
+  std::vector<Eigen::Vector3d> scattered;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> az(-38.0, 38.0), el(-28.0, 20.0), unit(0.0, 1.0);
+  for (int i = 0; i < 600; ++i) {
+    const double a = az(rng), e = el(rng);
+    const Eigen::Vector2d ray = mm::normalisedFromAngles(a, e);
+    const double z = e >= 0.0 ? 15.0 : (unit(rng) < 0.6 ? 8.0 : 1.5 / ray.y());
+    scattered.push_back({ray.x() * z, ray.y() * z, z});
+  }
+  const mm::GroundChoice radar = mm::chooseGround(mm::toAngularSamples(scattered), angles, params);
+  ASSERT_GT(radar.inlier_fraction, 0.1);
+  ASSERT_LT(radar.inlier_fraction, params.ground.precise_fraction);
+  EXPECT_LT(radar.scan_line_share, 0.35);
+  EXPECT_FALSE(radar.dense);
+}
+
+TEST(GroundPlaneEstimate, ScanLineShareFindsTheExactNearestNeighbour) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 159.0), v(0.0, 119.0), noise(-0.3, 0.3);
+  for (int trial = 0; trial < 4; ++trial) {
+    std::vector<Eigen::Vector3d> points;
+    // Clusters and a lattice with jitter: ties and empty grid cells both occur.
+    for (int i = 0; i < 300; ++i) {
+      const double pu = trial % 2 == 0 ? u(rng) : 1.0 + 10.0 * (i % 15) + noise(rng);
+      const double pv =
+          trial % 2 == 0 ? v(rng) * (i % 3 == 0 ? 0.2 : 1.0) : 1.0 + 6.0 * (i / 15) + noise(rng);
+      points.push_back(pointOnPixelRay(smallCamera(), pu, pv, 5.0 + i % 7));
+    }
+    const auto samples = mm::toAngularSamples(points);
+    EXPECT_NEAR(mm::scanLineShare(samples, angles), bruteForceScanLineShare(samples), 1e-12)
+        << "trial " << trial;
+  }
+  EXPECT_EQ(mm::scanLineShare({}, angles), 0.0);
+}
+
 TEST(GroundPlaneEstimate, DepthStatsReportSourceAndMode) {
   mm::DepthCompleter completer(2);
   mm::DepthCompletionParams params;

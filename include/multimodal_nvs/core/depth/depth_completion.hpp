@@ -26,9 +26,11 @@ struct DepthMapStats {
   double shift = 0.0;
   double compute_ms = 0.0;
   /// ground_gp only (empty otherwise): where its ground plane came from (returns, pose,
-  /// parameters), which mode ran (dense, sparse), and the share of the returns on the RANSAC plane.
+  /// parameters), which mode ran (dense, sparse), the share of the returns on the RANSAC plane and
+  /// the share whose nearest return lies along the image rows (-1 when the mode did not need it).
   std::string ground_source, ground_mode;
   double ground_inlier_fraction = 0.0;
+  double ground_scan_line_share = -1.0;
 };
 
 /// Dense depth on the stride grid, in the reference's layout: depth in metres (camera z), -1 where
