@@ -6,6 +6,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "multimodal_nvs/core/depth/angular_bins.hpp"
 #include "multimodal_nvs/core/depth/models/ground_gp_model.hpp"
 
 namespace multimodal_nvs {
@@ -137,109 +138,45 @@ void refineOnInliers(const std::vector<Eigen::Vector3d>& points, double distance
   normal = refined.normalized();
   offset = -normal.dot(mean);
 }
-// The returns' (azimuth, elevation) in buckets of a uniform grid, for exact nearest-neighbour
-// queries by rings of cells. Hand-written: the core links no k-d tree library, and two thousand
-// queries in a 2D grid cost well under a millisecond.
-class AngularGridIndex {
- public:
-  AngularGridIndex(const std::vector<Eigen::Vector2d>& points, double cell_deg)
-      : points_(points), cell_(cell_deg) {
-    lo_ = hi_ = points.front();
-    for (const Eigen::Vector2d& p : points) {
-      lo_ = lo_.cwiseMin(p);
-      hi_ = hi_.cwiseMax(p);
-    }
-    cols_ = static_cast<int>((hi_.x() - lo_.x()) / cell_) + 1;
-    rows_ = static_cast<int>((hi_.y() - lo_.y()) / cell_) + 1;
-    start_.assign(std::size_t(cols_) * rows_ + 1, 0);
-    for (const Eigen::Vector2d& p : points)
-      ++start_[cellOf(p) + 1];
-    for (std::size_t c = 1; c < start_.size(); ++c)
-      start_[c] += start_[c - 1];
-    order_.resize(points.size());
-    std::vector<int> next(start_.begin(), start_.end() - 1);
-    for (std::size_t i = 0; i < points.size(); ++i)
-      order_[next[cellOf(points[i])]++] = static_cast<int>(i);
-  }
-
-  /// The nearest point to points[query] other than itself (-1 if there is none).
-  int nearestOther(std::size_t query) const {
-    const Eigen::Vector2d& q = points_[query];
-    const int qc = column(q.x()), qr = row(q.y());
-    int best = -1;
-    double best_d2 = INFINITY;
-    for (int ring = 0; ring <= std::max(cols_, rows_); ++ring) {
-      // Every point outside the searched square is at least `ring` cells away.
-      const double reach = (ring - 1) * cell_;
-      if (best >= 0 && ring > 0 && reach * reach >= best_d2) break;
-      for (int r = qr - ring; r <= qr + ring; ++r) {
-        if (r < 0 || r >= rows_) continue;
-        const bool edge_row = r == qr - ring || r == qr + ring;
-        for (int c = qc - ring; c <= qc + ring; c += edge_row ? 1 : 2 * std::max(ring, 1)) {
-          if (c < 0 || c >= cols_) continue;
-          const std::size_t cell = std::size_t(r) * cols_ + c;
-          for (int k = start_[cell]; k < start_[cell + 1]; ++k) {
-            const int i = order_[k];
-            if (std::size_t(i) == query) continue;
-            const double d2 = (points_[i] - q).squaredNorm();
-            if (d2 < best_d2) {
-              best_d2 = d2;
-              best = i;
-            }
-          }
-        }
-      }
-    }
-    return best;
-  }
-
- private:
-  int column(double x) const {
-    return std::min(cols_ - 1, static_cast<int>((x - lo_.x()) / cell_));
-  }
-  int row(double y) const { return std::min(rows_ - 1, static_cast<int>((y - lo_.y()) / cell_)); }
-  std::size_t cellOf(const Eigen::Vector2d& p) const {
-    return std::size_t(row(p.y())) * cols_ + column(p.x());
-  }
-
-  const std::vector<Eigen::Vector2d>& points_;
-  double cell_;
-  Eigen::Vector2d lo_, hi_;
-  int cols_ = 1, rows_ = 1;
-  std::vector<int> start_, order_;
-};
 }  // namespace
 
 double scanLineShare(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles) {
   const StrideGrid& grid = angles.grid();
   const PinholeIntrinsics& k = angles.intrinsics();
-  std::vector<Eigen::Vector2d> points;
+  std::vector<AngularSample> in_view;
+  float az0 = INFINITY, az1 = -INFINITY, el0 = INFINITY, el1 = -INFINITY;
   for (const AngularSample& s : samples) {
     if (!(s.depth > 0.0f) || !std::isfinite(s.depth)) continue;
     double u = 0.0, v = 0.0;
     if (!angularToPixel(k, s.azimuth_deg, s.elevation_deg, &u, &v)) continue;
     if (u < 0.0 || v < 0.0 || u > grid.image.width - 1 || v > grid.image.height - 1) continue;
-    points.emplace_back(s.azimuth_deg, s.elevation_deg);
+    in_view.push_back(s);
+    az0 = std::min(az0, s.azimuth_deg);
+    az1 = std::max(az1, s.azimuth_deg);
+    el0 = std::min(el0, s.elevation_deg);
+    el1 = std::max(el1, s.elevation_deg);
   }
-  if (points.size() < 2) return 0.0;
-  // Cells holding a few returns each on average over the returns' extent.
-  Eigen::Vector2d lo = points.front(), hi = points.front();
-  for (const Eigen::Vector2d& p : points) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  const double area = std::max(1e-6, (hi.x() - lo.x()) * (hi.y() - lo.y()));
-  const double cell = std::max(0.01, std::sqrt(4.0 * area / double(points.size())));
-  const AngularGridIndex index(points, cell);
+  if (in_view.size() < 2) return 0.0;
+  // Bins holding a few returns each on average over the returns' extent.
+  const double area = std::max(1e-6, double(az1 - az0) * double(el1 - el0));
+  const AngularBins bins(in_view, std::max(0.01, std::sqrt(4.0 * area / double(in_view.size()))));
   const double slope = std::tan(kScanLineSlopeDeg * M_PI / 180.0);
-  const std::size_t every = (points.size() + kMaxScanLineQueries - 1) / kMaxScanLineQueries;
+  const std::size_t every = (in_view.size() + kMaxScanLineQueries - 1) / kMaxScanLineQueries;
+  std::vector<std::pair<double, int>> nearest;
   std::size_t queries = 0, along_rows = 0;
-  for (std::size_t q = 0; q < points.size(); q += every) {
-    const int nearest = index.nearestOther(q);
-    if (nearest < 0) continue;
-    const Eigen::Vector2d d = points[std::size_t(nearest)] - points[q];
+  for (std::size_t q = 0; q < in_view.size(); q += every) {
+    const AngularSample& query = in_view[q];
+    bins.nearest(query.azimuth_deg, query.elevation_deg, 2, nearest);
+    // The query itself is among its two nearest (at distance 0); the other one is its neighbour.
+    const auto other =
+        std::find_if(nearest.begin(), nearest.end(),
+                     [q](const std::pair<double, int>& n) { return n.second != int(q); });
+    if (other == nearest.end()) continue;
+    const AngularSample& neighbour = in_view[std::size_t(other->second)];
+    const double d_az = double(neighbour.azimuth_deg) - query.azimuth_deg;
+    const double d_el = double(neighbour.elevation_deg) - query.elevation_deg;
     ++queries;
-    along_rows += std::abs(d.y()) <= slope * std::abs(d.x());
+    along_rows += std::abs(d_el) <= slope * std::abs(d_az);
   }
   return queries == 0 ? 0.0 : double(along_rows) / double(queries);
 }
