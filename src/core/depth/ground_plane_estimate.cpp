@@ -45,16 +45,20 @@ struct InView {
   double elevation_spread_deg = 0.0;  // standard deviation
 };
 
+/// A return with a positive finite depth whose direction projects inside the image.
+bool returnInImage(const AngularSample& s, const PixelAngleGrid& angles) {
+  if (!(s.depth > 0.0f) || !std::isfinite(s.depth)) return false;
+  const ImageSize& image = angles.grid().image;
+  double u = 0.0, v = 0.0;
+  if (!angularToPixel(angles.intrinsics(), s.azimuth_deg, s.elevation_deg, &u, &v)) return false;
+  return !(u < 0.0 || v < 0.0 || u > image.width - 1 || v > image.height - 1);
+}
+
 InView returnsInView(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles) {
   InView v;
-  const StrideGrid& grid = angles.grid();
-  const PinholeIntrinsics& k = angles.intrinsics();
   double sum = 0.0, sum2 = 0.0;
   for (const AngularSample& s : samples) {
-    if (!(s.depth > 0.0f) || !std::isfinite(s.depth)) continue;
-    double u = 0.0, v_px = 0.0;
-    if (!angularToPixel(k, s.azimuth_deg, s.elevation_deg, &u, &v_px)) continue;
-    if (u < 0.0 || v_px < 0.0 || u > grid.image.width - 1 || v_px > grid.image.height - 1) continue;
+    if (!returnInImage(s, angles)) continue;
     const Eigen::Vector2d ray = normalisedFromAngles(s.azimuth_deg, s.elevation_deg);
     const Eigen::Vector3d p(ray.x() * s.depth, ray.y() * s.depth, s.depth);
     if (p.norm() > kMaxRangeM) continue;
@@ -141,15 +145,10 @@ void refineOnInliers(const std::vector<Eigen::Vector3d>& points, double distance
 }  // namespace
 
 double scanLineShare(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles) {
-  const StrideGrid& grid = angles.grid();
-  const PinholeIntrinsics& k = angles.intrinsics();
   std::vector<AngularSample> in_view;
   float az0 = INFINITY, az1 = -INFINITY, el0 = INFINITY, el1 = -INFINITY;
   for (const AngularSample& s : samples) {
-    if (!(s.depth > 0.0f) || !std::isfinite(s.depth)) continue;
-    double u = 0.0, v = 0.0;
-    if (!angularToPixel(k, s.azimuth_deg, s.elevation_deg, &u, &v)) continue;
-    if (u < 0.0 || v < 0.0 || u > grid.image.width - 1 || v > grid.image.height - 1) continue;
+    if (!returnInImage(s, angles)) continue;
     in_view.push_back(s);
     az0 = std::min(az0, s.azimuth_deg);
     az1 = std::max(az1, s.azimuth_deg);
