@@ -10,6 +10,7 @@
 
 #include "multimodal_nvs/core/common/distance_transform.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
+#include "multimodal_nvs/core/common/striped_filters.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/models/distance_variance.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
@@ -26,11 +27,16 @@ int scaledSize(int published, double scale) {
   return std::max(3, size | 1);
 }
 
-/// Dilation with a diamond (L1 ball) of odd size `size`: radius iterations of the 3x3 cross, which
-/// is exact for the L1 ball and costs O(radius) passes instead of O(size^2) per pixel.
-void dilateDiamond(const cv::Mat& in, cv::Mat& out, int size) {
+/// Dilation of `image` with a diamond (L1 ball) of odd size `size`: radius passes of the 3x3 cross,
+/// which is exact for the L1 ball and costs O(radius) passes instead of O(size^2) per pixel (the
+/// passes cv::dilate makes for `iterations`, here on the pool). The result is in `image`;
+/// `scratch` is the ping-pong partner.
+void dilateDiamond(cv::Mat& image, cv::Mat& scratch, int size, ThreadPool& pool) {
   const cv::Mat cross = cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3));
-  cv::dilate(in, out, cross, cv::Point(-1, -1), size / 2);
+  for (int pass = 0; pass < size / 2; ++pass) {
+    stripedDilate(image, scratch, cross, pool);
+    std::swap(image, scratch);
+  }
 }
 
 cv::Mat rect(int size) {
@@ -41,12 +47,13 @@ cv::Mat rect(int size) {
 /// Only the bounding box of the empty pixels is dilated: cv::dilate reads the neighbours outside a
 /// ROI from the parent image, so the values there are those of the full-image dilation (outputs
 /// unchanged), and after the earlier fills the box is often a fraction of the image.
-void fillFromDilation(cv::Mat& image, int size, cv::Mat& dilated, cv::Mat& empty) {
+void fillFromDilation(cv::Mat& image, int size, cv::Mat& dilated, cv::Mat& empty,
+                      ThreadPool& pool) {
   cv::compare(image, kEmpty, empty, cv::CMP_LE);
   const cv::Rect box = cv::boundingRect(empty);
   if (box.empty()) return;
   cv::Mat roi = image(box);
-  cv::dilate(roi, dilated, rect(size));
+  stripedDilate(roi, dilated, rect(size), pool);
   dilated.copyTo(roi, empty(box));
 }
 
@@ -59,6 +66,36 @@ struct IpBasicScratch {
   cv::Mat mask;
   cv::Mat vertical;  // of the distance transform
 };
+
+/// Extends each column's topmost value (above kEmpty) to the top row. Row by row, so that the
+/// image is read in memory order: `top[c]` is column c's value once it has been seen.
+void extendTopValues(cv::Mat& image) {
+  const int rows = image.rows, cols = image.cols;
+  std::vector<float> top(cols, 0.0f);
+  std::vector<int> first_row(cols, -1);
+  int unseen = cols;
+  for (int r = 0; r < rows && unseen > 0; ++r) {
+    const float* row = image.ptr<float>(r);
+    for (int c = 0; c < cols; ++c) {
+      if (first_row[c] < 0 && row[c] > kEmpty) {
+        first_row[c] = r;
+        top[c] = row[c];
+        --unseen;
+      }
+    }
+  }
+  for (int r = 0; r < rows; ++r) {
+    float* row = image.ptr<float>(r);
+    bool above_any = false;
+    for (int c = 0; c < cols; ++c) {
+      if (r < first_row[c]) {
+        row[c] = top[c];
+        above_any = true;
+      }
+    }
+    if (!above_any) break;
+  }
+}
 
 }  // namespace
 
@@ -115,23 +152,19 @@ void predictIpBasic(const std::vector<AngularSample>& all_samples, const PixelAn
   const double spacing = std::sqrt(area / double(occupied));
   const double scale = std::min(8.0, std::max(0.5, spacing / kIpBasicReferenceSpacing));
 
-  cv::Mat& other = scratch.median;  // ping-pong partner of `work` until the median
-  dilateDiamond(work, other, scaledSize(5, scale));
-  cv::morphologyEx(other, work, cv::MORPH_CLOSE, rect(scaledSize(5, scale)));
-  fillFromDilation(work, scaledSize(7, scale), scratch.dilated, scratch.mask);
-  // Extend each column's topmost value to the top row.
-  for (int c = 0; c < cols; ++c) {
-    int top = 0;
-    while (top < rows && work.at<float>(top, c) <= kEmpty)
-      ++top;
-    if (top == rows) continue;
-    const float value = work.at<float>(top, c);
-    for (int r = 0; r < top; ++r)
-      work.at<float>(r, c) = value;
-  }
-  fillFromDilation(work, scaledSize(31, scale), scratch.dilated, scratch.mask);
-  cv::medianBlur(work, scratch.median, 5);
-  cv::bilateralFilter(scratch.median, scratch.smooth, 5, 1.5, 2.0);
+  // The working image ping-pongs between `image` and `other`: headers, so that swapping them
+  // never copies (the result must end in `work`, the output buffer, before the median).
+  cv::Mat image = work, other = scratch.median;
+  dilateDiamond(image, other, scaledSize(5, scale), pool);
+  const cv::Mat closing = rect(scaledSize(5, scale));  // cv::MORPH_CLOSE: dilate, then erode
+  stripedDilate(image, other, closing, pool);
+  stripedErode(other, image, closing, pool);
+  if (image.data != work.data) image.copyTo(work);  // an odd number of diamond passes
+  fillFromDilation(work, scaledSize(7, scale), scratch.dilated, scratch.mask, pool);
+  extendTopValues(work);
+  fillFromDilation(work, scaledSize(31, scale), scratch.dilated, scratch.mask, pool);
+  stripedMedianBlur(work, scratch.median, 5, pool);
+  cv::bilateralFilter(scratch.median, scratch.smooth, 5, 1.5, 2.0);  // on OpenCV's threads
 
   // Smoothing must not erase a fill at a hole's border: keep the unsmoothed value there.
   const double deg_per_pixel = grid.stride * 180.0 / (3.14159265358979323846 * k.fx);

@@ -11,6 +11,13 @@ namespace multimodal_nvs {
 /// the kernel model's length scale (posterior variance ~ sigma^2 + a^2 d^2 / l^2 for d << l), kept
 /// growing instead of saturating at the prior a^2 so that retention ranks every pixel by its
 /// distance to the data (a saturating variance would tie most radar pixels at the prior).
-double distanceVariance(double distance_deg, const DepthCompletionParams& params);
+/// Inline: it runs once per pixel in the `ipbasic` and `nearest` output passes, where a call per
+/// pixel kept the loops from being vectorised.
+inline double distanceVariance(double distance_deg, const DepthCompletionParams& params) {
+  const double sigma = params.gp.noise, a = params.gp.amplitude;
+  const double l = params.kernel_length_scale_deg;
+  const double ratio = distance_deg / l;
+  return sigma * sigma + a * a * ratio * ratio;
+}
 
 }  // namespace multimodal_nvs

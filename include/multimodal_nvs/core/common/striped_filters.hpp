@@ -1,0 +1,25 @@
+#pragma once
+// OpenCV neighbourhood filters run as row stripes on the package's thread pool. Why: Debian's
+// OpenCV 4.6 runs cv::dilate / cv::erode and cv::medianBlur on one thread (measured: the same time
+// with cv::setNumThreads(1) and (2) on a 1936x1216 float image), and they are most of the `ipbasic`
+// baseline. Every stripe computes exactly the rows the whole-image call would, so the outputs are
+// bit-identical to it for any thread count (test_striped_filters compares them).
+#include <opencv2/core.hpp>
+
+#include "multimodal_nvs/core/common/thread_pool.hpp"
+
+namespace multimodal_nvs {
+
+/// cv::dilate(in, out, kernel) (default anchor, one iteration, default border) by row stripes.
+/// `in` may be a ROI: as in OpenCV, pixels outside it are read from its parent. `out` must not
+/// share memory with `in`.
+void stripedDilate(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, ThreadPool& pool);
+
+/// cv::erode, likewise.
+void stripedErode(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, ThreadPool& pool);
+
+/// cv::medianBlur(in, out, ksize) by row stripes, each filtered with ksize / 2 rows of context on
+/// each side. `in` is treated as a whole image (its parent, if any, is not read), as OpenCV does.
+void stripedMedianBlur(const cv::Mat& in, cv::Mat& out, int ksize, ThreadPool& pool);
+
+}  // namespace multimodal_nvs
