@@ -21,12 +21,14 @@ std::vector<Eigen::Vector3d> transformToCamera(const std::vector<Eigen::Vector3f
   return out;
 }
 
-std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& points_camera,
-                                            std::size_t* dropped_non_finite) {
-  std::vector<AngularSample> out;
-  out.reserve(points_camera.size());
+namespace {
+
+/// Appends the samples of points [begin, end) to `out`; returns the non-finite points skipped.
+std::size_t appendAngularSamples(const Eigen::Vector3d* begin, const Eigen::Vector3d* end,
+                                 std::vector<AngularSample>& out) {
   std::size_t dropped = 0;
-  for (const auto& p : points_camera) {
+  for (const Eigen::Vector3d* it = begin; it != end; ++it) {
+    const Eigen::Vector3d& p = *it;
     if (!p.allFinite()) {
       ++dropped;
       continue;
@@ -34,6 +36,43 @@ std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& 
     const double az = std::atan2(p.x(), p.z()) * kRadToDeg64;
     const double el = std::atan2(-p.y(), std::sqrt(p.x() * p.x() + p.z() * p.z())) * kRadToDeg64;
     out.push_back({static_cast<float>(az), static_cast<float>(el), static_cast<float>(p.z())});
+  }
+  return dropped;
+}
+
+// Two double atan2 per point: ~8 ms for a 167 k-point HDL-64 scan on one core, so a LiDAR scan is
+// split over the pool.
+constexpr std::size_t kPointsPerChunk = 16384;
+
+}  // namespace
+
+std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& points_camera,
+                                            std::size_t* dropped_non_finite, ThreadPool* pool) {
+  std::vector<AngularSample> out;
+  const std::size_t n = points_camera.size();
+  const Eigen::Vector3d* points = points_camera.data();
+  std::size_t dropped = 0;
+  const std::size_t chunks = (n + kPointsPerChunk - 1) / kPointsPerChunk;
+  if (pool == nullptr || pool->size() == 1 || chunks < 2) {
+    out.reserve(n);
+    dropped = appendAngularSamples(points, points + n, out);
+  } else {
+    std::vector<std::vector<AngularSample>> parts(chunks);
+    std::vector<std::size_t> part_dropped(chunks);
+    pool->parallelFor(static_cast<long long>(chunks), [&](long long c, int) {
+      const std::size_t begin = std::size_t(c) * kPointsPerChunk;
+      const std::size_t end = std::min(n, begin + kPointsPerChunk);
+      parts[c].reserve(end - begin);
+      part_dropped[c] = appendAngularSamples(points + begin, points + end, parts[c]);
+    });
+    std::size_t total = 0;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      total += parts[c].size();
+      dropped += part_dropped[c];
+    }
+    out.reserve(total);
+    for (const auto& part : parts)
+      out.insert(out.end(), part.begin(), part.end());
   }
   if (dropped_non_finite != nullptr) *dropped_non_finite = dropped;
   return out;

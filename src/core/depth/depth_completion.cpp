@@ -100,7 +100,7 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   stats.points_total = points_camera.size();
   stats.points_in_view = countInView(points_camera, intrinsics, grid.image);
   const std::vector<AngularSample> samples =
-      toAngularSamples(points_camera, &stats.points_non_finite);
+      toAngularSamples(points_camera, &stats.points_non_finite, pool_.get());
   stats.shift = computeShift(params.shift, samples);
 
   const PixelAngleGrid& angles = pixelAngles(intrinsics, grid);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "multimodal_nvs/core/common/camera.hpp"
+#include "multimodal_nvs/core/common/thread_pool.hpp"
 
 namespace multimodal_nvs {
 
@@ -20,9 +21,11 @@ struct AngularSample {
 
 /// Camera-frame points -> angular samples: az = atan2(x, z), el = atan2(-y, hypot(x, z)), computed
 /// in double and rounded to float32 (the reference's convention). Non-finite points are skipped and
-/// counted in `dropped_non_finite` when it is not null.
+/// counted in `dropped_non_finite` when it is not null. With a `pool`, chunks of the points are
+/// converted in parallel and joined in order: the same samples in the same order.
 std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& points_camera,
-                                            std::size_t* dropped_non_finite = nullptr);
+                                            std::size_t* dropped_non_finite = nullptr,
+                                            ThreadPool* pool = nullptr);
 
 /// Transforms sensor-frame points into the camera frame (double precision, like the reference).
 std::vector<Eigen::Vector3d> transformToCamera(const std::vector<Eigen::Vector3f>& points_sensor,
