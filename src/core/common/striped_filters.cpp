@@ -26,6 +26,27 @@ void byStripes(const cv::Mat& in, cv::Mat& out, ThreadPool& pool, const Filter& 
   });
 }
 
+/// Runs `filter(context, filtered)` on the rows of each stripe plus `halo` rows of context on each
+/// side (fewer at the image's top and bottom, which are the image's own edges), and copies the
+/// stripe's rows of the result into `out`. Exact when no output row depends on rows more than
+/// `halo` away. Stripes are about `stripe_rows` high: small enough for the context and the result
+/// to stay in the core's L2 cache while a filter makes several passes over them.
+template <typename Filter>
+void byStripesWithContext(const cv::Mat& in, cv::Mat& out, int halo, int stripe_rows,
+                          ThreadPool& pool, const Filter& filter) {
+  const int rows = in.rows;
+  const int stripes = std::max(1, std::min(rows / std::max(1, stripe_rows), rows));
+  out.create(in.size(), in.type());
+  pool.parallelFor(stripes, [&](long long s, int) {
+    const int r0 = static_cast<int>(s * rows / stripes);
+    const int r1 = static_cast<int>((s + 1) * rows / stripes);
+    const int top = std::max(0, r0 - halo), bottom = std::min(rows, r1 + halo);
+    thread_local cv::Mat filtered;  // kept across frames: no first-touch page faults
+    filter(in.rowRange(top, bottom), filtered);
+    filtered.rowRange(r0 - top, r1 - top).copyTo(out.rowRange(r0, r1));
+  });
+}
+
 }  // namespace
 
 void stripedDilate(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, ThreadPool& pool) {
@@ -39,16 +60,23 @@ void stripedErode(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, Thread
 }
 
 void stripedMedianBlur(const cv::Mat& in, cv::Mat& out, int ksize, ThreadPool& pool) {
-  const int halo = ksize / 2, rows = in.rows;
-  byStripes(in, out, pool, [&](int r0, int r1, cv::Mat& dst) {
-    // The stripe with ksize / 2 rows of context on each side: the stripe's rows then see exactly
-    // the neighbours they see in the whole image, whether or not cv::medianBlur reads a ROI's
-    // parent, and the context's own edges are the image's edges or rows that are thrown away.
-    const int top = std::max(0, r0 - halo), bottom = std::min(rows, r1 + halo);
-    thread_local cv::Mat filtered;  // kept across frames: no first-touch page faults
-    cv::medianBlur(in.rowRange(top, bottom), filtered, ksize);
-    filtered.rowRange(r0 - top, r1 - top).copyTo(dst);
-  });
+  // Whether or not cv::medianBlur reads a ROI's parent, the stripe's rows see exactly the
+  // neighbours they see in the whole image.
+  byStripesWithContext(
+      in, out, ksize / 2, in.rows / (2 * pool.size()), pool,
+      [&](const cv::Mat& context, cv::Mat& filtered) { cv::medianBlur(context, filtered, ksize); });
+}
+
+void stripedMorphology(const cv::Mat& in, cv::Mat& out, int op, const cv::Mat& kernel,
+                       int iterations, ThreadPool& pool) {
+  const int passes = iterations * (op == cv::MORPH_CLOSE || op == cv::MORPH_OPEN ? 2 : 1);
+  const int halo = passes * (kernel.rows / 2);
+  constexpr int kCacheStripeRows = 48;  // 48 x 1936 floats: 370 kB with context and result
+  byStripesWithContext(in, out, halo, std::max(kCacheStripeRows, 4 * halo), pool,
+                       [&](const cv::Mat& context, cv::Mat& filtered) {
+                         cv::morphologyEx(context, filtered, op, kernel, cv::Point(-1, -1),
+                                          iterations);
+                       });
 }
 
 }  // namespace multimodal_nvs

@@ -91,6 +91,25 @@ TEST(StripedFilters, MedianBlurMatchesOpenCv) {
   }
 }
 
+TEST(StripedFilters, MorphologyMatchesOpenCvWithIterations) {
+  for (int rows : {1, 5, 50, 97, 400}) {
+    const cv::Mat image = sparseImage(rows, 47, 0.9, 23u + rows);
+    for (int threads : {1, 2, 5}) {
+      mm::ThreadPool pool(threads);
+      for (int op : {cv::MORPH_DILATE, cv::MORPH_ERODE, cv::MORPH_OPEN, cv::MORPH_CLOSE}) {
+        for (const cv::Mat& kernel : kKernels) {
+          for (int iterations : {1, 3, 6}) {
+            cv::Mat expected, actual;
+            cv::morphologyEx(image, expected, op, kernel, cv::Point(-1, -1), iterations);
+            mm::stripedMorphology(image, actual, op, kernel, iterations, pool);
+            expectSameBytes(expected, actual);
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(StripedFilters, OutputBufferIsReused) {
   const cv::Mat image = sparseImage(200, 40, 0.7, 9u);
   mm::ThreadPool pool(2);

@@ -22,4 +22,12 @@ void stripedErode(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, Thread
 /// each side. `in` is treated as a whole image (its parent, if any, is not read), as OpenCV does.
 void stripedMedianBlur(const cv::Mat& in, cv::Mat& out, int ksize, ThreadPool& pool);
 
+/// cv::morphologyEx(in, out, op, kernel, default anchor, iterations) for op MORPH_DILATE,
+/// MORPH_ERODE, MORPH_OPEN or MORPH_CLOSE with a kernel of odd size, on the image `in` (its
+/// parent, if any, is not read). Each stripe runs all passes with enough rows of context for its
+/// own rows to be exact, in a block small enough to stay in cache: several passes (a diamond as
+/// iterations of the cross, a closing) then cost about one pass of memory traffic.
+void stripedMorphology(const cv::Mat& in, cv::Mat& out, int op, const cv::Mat& kernel,
+                       int iterations, ThreadPool& pool);
+
 }  // namespace multimodal_nvs

@@ -27,18 +27,6 @@ int scaledSize(int published, double scale) {
   return std::max(3, size | 1);
 }
 
-/// Dilation of `image` with a diamond (L1 ball) of odd size `size`: radius passes of the 3x3 cross,
-/// which is exact for the L1 ball and costs O(radius) passes instead of O(size^2) per pixel (the
-/// passes cv::dilate makes for `iterations`, here on the pool). The result is in `image`;
-/// `scratch` is the ping-pong partner.
-void dilateDiamond(cv::Mat& image, cv::Mat& scratch, int size, ThreadPool& pool) {
-  const cv::Mat cross = cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3));
-  for (int pass = 0; pass < size / 2; ++pass) {
-    stripedDilate(image, scratch, cross, pool);
-    std::swap(image, scratch);
-  }
-}
-
 cv::Mat rect(int size) {
   return cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size));
 }
@@ -152,14 +140,11 @@ void predictIpBasic(const std::vector<AngularSample>& all_samples, const PixelAn
   const double spacing = std::sqrt(area / double(occupied));
   const double scale = std::min(8.0, std::max(0.5, spacing / kIpBasicReferenceSpacing));
 
-  // The working image ping-pongs between `image` and `other`: headers, so that swapping them
-  // never copies (the result must end in `work`, the output buffer, before the median).
-  cv::Mat image = work, other = scratch.median;
-  dilateDiamond(image, other, scaledSize(5, scale), pool);
-  const cv::Mat closing = rect(scaledSize(5, scale));  // cv::MORPH_CLOSE: dilate, then erode
-  stripedDilate(image, other, closing, pool);
-  stripedErode(other, image, closing, pool);
-  if (image.data != work.data) image.copyTo(work);  // an odd number of diamond passes
+  // Diamond (L1 ball) of odd size n: n / 2 passes of the 3x3 cross, exact for the L1 ball and
+  // O(radius) per pixel instead of O(n^2). Then the closing. Both in cache-sized stripes.
+  const cv::Mat cross = cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3));
+  stripedMorphology(work, scratch.median, cv::MORPH_DILATE, cross, scaledSize(5, scale) / 2, pool);
+  stripedMorphology(scratch.median, work, cv::MORPH_CLOSE, rect(scaledSize(5, scale)), 1, pool);
   fillFromDilation(work, scaledSize(7, scale), scratch.dilated, scratch.mask, pool);
   extendTopValues(work);
   fillFromDilation(work, scaledSize(31, scale), scratch.dilated, scratch.mask, pool);
