@@ -54,11 +54,6 @@ void stripedDilate(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, Threa
             [&](int r0, int r1, cv::Mat& dst) { cv::dilate(in.rowRange(r0, r1), dst, kernel); });
 }
 
-void stripedErode(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, ThreadPool& pool) {
-  byStripes(in, out, pool,
-            [&](int r0, int r1, cv::Mat& dst) { cv::erode(in.rowRange(r0, r1), dst, kernel); });
-}
-
 void stripedMedianBlur(const cv::Mat& in, cv::Mat& out, int ksize, ThreadPool& pool) {
   // Whether or not cv::medianBlur reads a ROI's parent, the stripe's rows see exactly the
   // neighbours they see in the whole image.

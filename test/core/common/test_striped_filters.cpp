@@ -41,7 +41,7 @@ const cv::Mat kKernels[] = {
     cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(7, 7)),
 };
 
-TEST(StripedFilters, DilateAndErodeMatchOpenCv) {
+TEST(StripedFilters, DilateMatchesOpenCv) {
   for (int rows : {1, 7, 64, 97, 301}) {
     const cv::Mat image = sparseImage(rows, 53, 0.9, 17u + rows);
     for (int threads : {1, 2, 5}) {
@@ -50,9 +50,6 @@ TEST(StripedFilters, DilateAndErodeMatchOpenCv) {
         cv::Mat expected, actual;
         cv::dilate(image, expected, kernel);
         mm::stripedDilate(image, actual, kernel, pool);
-        expectSameBytes(expected, actual);
-        cv::erode(image, expected, kernel);
-        mm::stripedErode(image, actual, kernel, pool);
         expectSameBytes(expected, actual);
       }
     }

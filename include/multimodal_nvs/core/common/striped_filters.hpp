@@ -15,9 +15,6 @@ namespace multimodal_nvs {
 /// share memory with `in`.
 void stripedDilate(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, ThreadPool& pool);
 
-/// cv::erode, likewise.
-void stripedErode(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, ThreadPool& pool);
-
 /// cv::medianBlur(in, out, ksize) by row stripes, each filtered with ksize / 2 rows of context on
 /// each side. `in` is treated as a whole image (its parent, if any, is not read), as OpenCV does.
 void stripedMedianBlur(const cv::Mat& in, cv::Mat& out, int ksize, ThreadPool& pool);
