@@ -15,55 +15,58 @@ constexpr int kMaxStackPixels = 64;
 namespace {
 
 // kSize > 0 fixes the set size at compile time (radar sets are tiny: the loops unroll); 0 is the
-// general case. Same arithmetic either way.
-template <int kSize>
+// general case. Same arithmetic either way. `Real` is the precision of the exponentials and the
+// substitution: float runs twice the lanes per SIMD instruction.
+template <int kSize, typename Real>
 void predictBlocks(const double* packed_factor, const double* beta, const float* azimuth,
                    const float* elevation, int n, double length_scale, const LocalGpParams& params,
                    const float* pixel_az, const float* pixel_el, int pixels, double shift,
                    float* mean_out, float* var_out) {
   if (kSize > 0) n = kSize;
-  const double a2 = params.amplitude * params.amplitude;
-  const double prior = a2 + params.noise * params.noise;
-  const double scale = -0.5 / (length_scale * length_scale);
+  const Real a2 = static_cast<Real>(params.amplitude * params.amplitude);
+  const double prior = params.amplitude * params.amplitude + params.noise * params.noise;
+  const Real scale = static_cast<Real>(-0.5 / (length_scale * length_scale));
   // Pixels are processed in blocks with the block index innermost, so the exponentials and the
   // forward substitution vectorise across pixels. w is row-major n x block.
-  // 8 spare doubles so that the exponentials run over whole SIMD packets (no scalar tail).
-  thread_local SimdVector<double> w;
-  w.resize(std::size_t(n) * kMaxStackPixels + 8, 0.0);
+  // Spare entries so that the exponentials run over whole SIMD packets (no scalar tail).
+  constexpr std::size_t kPacket = 64 / sizeof(Real);
+  thread_local SimdVector<Real> w;
+  w.resize(std::size_t(n) * kMaxStackPixels + kPacket, Real(0));
   for (int p0 = 0; p0 < pixels; p0 += kMaxStackPixels) {
     const int m = std::min(kMaxStackPixels, pixels - p0);
-    double paz[kMaxStackPixels], pel[kMaxStackPixels];
+    Real paz[kMaxStackPixels], pel[kMaxStackPixels];
     for (int p = 0; p < m; ++p) {
       paz[p] = pixel_az[p0 + p];
       pel[p] = pixel_el[p0 + p];
     }
     for (int i = 0; i < n; ++i) {
-      double* wi = w.data() + std::size_t(i) * m;
-      const double az = azimuth[i];
-      const double el = elevation[i];
+      Real* wi = w.data() + std::size_t(i) * m;
+      const Real az = azimuth[i];
+      const Real el = elevation[i];
       for (int p = 0; p < m; ++p) {
-        const double da = az - paz[p];
-        const double de = el - pel[p];
+        const Real da = az - paz[p];
+        const Real de = el - pel[p];
         wi[p] = (da * da + de * de) * scale;
       }
     }
-    Eigen::Map<Eigen::ArrayXd> block(w.data(), (std::size_t(n) * m + 7) & ~std::size_t(7));
+    Eigen::Map<Eigen::Array<Real, Eigen::Dynamic, 1>> block(
+        w.data(), (std::size_t(n) * m + kPacket - 1) & ~(kPacket - 1));
     block = block.exp() * a2;
     // Segments average about 15 pixels: clear only the m accumulators in use.
-    double mean[kMaxStackPixels], norm2[kMaxStackPixels];
-    std::fill_n(mean, m, 0.0);
-    std::fill_n(norm2, m, 0.0);
+    Real mean[kMaxStackPixels], norm2[kMaxStackPixels];
+    std::fill_n(mean, m, Real(0));
+    std::fill_n(norm2, m, Real(0));
     const double* row = packed_factor;
     for (int i = 0; i < n; ++i) {
-      double* wi = w.data() + std::size_t(i) * m;
+      Real* wi = w.data() + std::size_t(i) * m;
       for (int j = 0; j < i; ++j) {
-        const double lij = row[j];
-        const double* wj = w.data() + std::size_t(j) * m;
+        const Real lij = static_cast<Real>(row[j]);
+        const Real* wj = w.data() + std::size_t(j) * m;
         for (int p = 0; p < m; ++p)
           wi[p] -= lij * wj[p];
       }
-      const double inv_diag = 1.0 / row[i];
-      const double bi = beta[i];
+      const Real inv_diag = static_cast<Real>(1.0 / row[i]);
+      const Real bi = static_cast<Real>(beta[i]);
       for (int p = 0; p < m; ++p) {
         wi[p] *= inv_diag;
         mean[p] += wi[p] * bi;
@@ -79,15 +82,14 @@ void predictBlocks(const double* packed_factor, const double* beta, const float*
   }
 }
 
-}  // namespace
-
-void predictFromFactor(const double* packed_factor, const double* beta, const float* azimuth,
-                       const float* elevation, int n, double length_scale,
-                       const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
-                       int pixels, double shift, float* mean_out, float* var_out) {
-#define MMNVS_PREDICT(size)                                                                       \
-  predictBlocks<size>(packed_factor, beta, azimuth, elevation, n, length_scale, params, pixel_az, \
-                      pixel_el, pixels, shift, mean_out, var_out)
+template <typename Real>
+void predictWithPrecision(const double* packed_factor, const double* beta, const float* azimuth,
+                          const float* elevation, int n, double length_scale,
+                          const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
+                          int pixels, double shift, float* mean_out, float* var_out) {
+#define MMNVS_PREDICT(size)                                                                   \
+  predictBlocks<size, Real>(packed_factor, beta, azimuth, elevation, n, length_scale, params, \
+                            pixel_az, pixel_el, pixels, shift, mean_out, var_out)
   switch (n) {
     case 1:
       return MMNVS_PREDICT(1);
@@ -105,6 +107,22 @@ void predictFromFactor(const double* packed_factor, const double* beta, const fl
       return MMNVS_PREDICT(0);
   }
 #undef MMNVS_PREDICT
+}
+
+}  // namespace
+
+void predictFromFactor(const double* packed_factor, const double* beta, const float* azimuth,
+                       const float* elevation, int n, double length_scale,
+                       const LocalGpParams& params, const float* pixel_az, const float* pixel_el,
+                       int pixels, double shift, float* mean_out, float* var_out,
+                       PredictionPrecision precision) {
+  if (precision == PredictionPrecision::kSingle) {
+    predictWithPrecision<float>(packed_factor, beta, azimuth, elevation, n, length_scale, params,
+                                pixel_az, pixel_el, pixels, shift, mean_out, var_out);
+  } else {
+    predictWithPrecision<double>(packed_factor, beta, azimuth, elevation, n, length_scale, params,
+                                 pixel_az, pixel_el, pixels, shift, mean_out, var_out);
+  }
 }
 
 }  // namespace multimodal_nvs

@@ -109,7 +109,10 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
     // The GP around a zero mean: out.mean is the residual's posterior mean (0 without a set); the
     // prior is added below.
     if (sets != nullptr) {
-      predictLocalGp(samples, residual, angles, *sets, residual_params, PriorMean{0.0}, pool, out);
+      // Single precision in the per-pixel step: this model keeps no parity with the reference,
+      // and the residual GP's small amplitude keeps its factors well conditioned.
+      predictLocalGp(samples, residual, angles, *sets, residual_params, PriorMean{0.0}, pool, out,
+                     PredictionPrecision::kSingle);
     } else {
       predictTiledLocalGp(samples, residual, angles, residual_params, PriorMean{0.0}, pool, out);
     }

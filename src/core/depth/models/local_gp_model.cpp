@@ -29,7 +29,7 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
 void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
                     const PixelAngleGrid& angles, const NeighbourSets& sets,
                     const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
-                    PixelPredictions& out) {
+                    PixelPredictions& out, PredictionPrecision precision) {
   const LocalGpParams& gp = params.gp;
   fillPredictions(angles, static_cast<float>(prior.constant),
                   static_cast<float>(gp.priorVariance()), pool, out);
@@ -163,7 +163,7 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
                        member_az.data() + member, member_el.data() + member,
                        sets.setSize(seg.set_id), length_scales[seg.set_id], gp, az + seg.col_begin,
                        el + seg.col_begin, seg.col_end - seg.col_begin, prior.constant,
-                       out.mean.data() + pixel, out.variance.data() + pixel);
+                       out.mean.data() + pixel, out.variance.data() + pixel, precision);
                  });
 }
 

@@ -4,6 +4,7 @@
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 #include "multimodal_nvs/core/depth/neighbour_sets.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
@@ -24,11 +25,12 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
 
 /// The same GP on explicit targets (sample depth minus the prior at the sample) around a prior
 /// mean: mean = prior + k*^T K^-1 y. With a constant prior c and targets z - c it is the model
-/// above.
+/// above. `precision`: of the per-pixel step only (the sets' searches and factors stay double).
 void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
                     const PixelAngleGrid& angles, const NeighbourSets& sets,
                     const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
-                    PixelPredictions& out);
+                    PixelPredictions& out,
+                    PredictionPrecision precision = PredictionPrecision::kDouble);
 
 /// Targets y = float32(z) - float32(shift) in float32, promoted to double (reference arithmetic).
 std::vector<double> shiftedTargets(const std::vector<AngularSample>& samples, double shift);
