@@ -12,6 +12,7 @@
 // residual between the samples and that prior with a small amplitude, and the variance adds the
 // prior's own uncertainty, which grows with the angular distance to the nearest sample.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <future>
 #include <limits>
@@ -214,6 +215,18 @@ constexpr double kVoteReachStepDeg = 0.08;
 // A sample at the pixel's own direction must not take infinite weight in the edge vote:
 // (0.01 deg)^2, far below any sample spacing.
 constexpr double kVoteDistanceFloorDeg2 = 1e-4;
+// A vote whose winning surface has this many times the support of every other surface is reused
+// for this many following pixels of the same triangle row (see the vote below).
+constexpr double kVoteDecisiveRatio = 4.0;
+constexpr int kVoteReusePixels = 3;
+/// The last vote of a rasterising thread.
+struct VoteMemory {
+  unsigned long long frame = 0;  // of this call (a triangle's address may recur in another)
+  const AngularTriangle* triangle = nullptr;
+  std::size_t pixel = 0;
+  int winner = 0;
+  int reuses_left = 0;
+};
 // Half-width of a column's band of returns for the upward extension, in mean sample spacings.
 constexpr double kColumnBandSpacings = 0.5;
 // A triangle with an edge longer than this many mean sample spacings bridges a region without
@@ -407,6 +420,10 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   // Read only where filled, and written wherever the rasteriser fills: no initialisation.
   std::vector<float>& longest = scratch.longest_edge;
   longest.resize(n);
+  // Tells the rasterising threads' vote memories of this call from those of earlier calls.
+  static std::atomic<unsigned long long> calls{0};
+  const unsigned long long frame = ++calls;
+  const int cols = angles.grid().cols();
   rasterizeTriangles(
       triangles, angles, pool, filled,
       [&](const AngularTriangle& t, double l0, double l1, double l2, std::size_t pixel, float az,
@@ -432,27 +449,45 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
           }
         }
         if (edge) {
-          thread_local std::vector<std::pair<double, int>> nearest;
-          // Edge pixels come in runs along a row: the previous query's k-th distance plus the
-          // step to this pixel bounds this one's (triangle inequality), so one round of the bin
-          // walk mostly suffices; when not (a new row, a far jump), the search widens itself.
-          thread_local double previous_kth_deg = 0.0;
-          bins.nearest(az, el, g.surface_k, nearest, previous_kth_deg);
-          if (!nearest.empty())
-            previous_kth_deg = std::sqrt(nearest.back().first) + kVoteReachStepDeg;
-          best = 0.0;
-          for (int i = 0; i < 3; ++i) {
-            double support = 0.0;
-            for (const auto& nn : nearest) {
-              const double z = usable[nn.second].depth;
-              if (std::max(z, t.z[i]) <= ratio * std::min(z, t.z[i])) {
-                support += 1.0 / (nn.first + kVoteDistanceFloorDeg2);
+          // A decisive vote (the winning surface has kVoteDecisiveRatio times the support of any
+          // other) stands for the next kVoteReusePixels pixels of the same triangle row: the k
+          // nearest returns of neighbouring pixels are nearly the same, and the queries were the
+          // largest cost of the dense mode. Near a close vote every pixel queries.
+          thread_local VoteMemory memory;
+          if (memory.frame == frame && memory.triangle == &t && pixel == memory.pixel + 1 &&
+              pixel % static_cast<std::size_t>(cols) != 0 && memory.reuses_left > 0) {
+            j = memory.winner;
+            --memory.reuses_left;
+            memory.pixel = pixel;
+          } else {
+            thread_local std::vector<std::pair<double, int>> nearest;
+            // Edge pixels come in runs along a row: the previous query's k-th distance plus the
+            // step to this pixel bounds this one's (triangle inequality), so one round of the bin
+            // walk mostly suffices; when not (a new row, a far jump), the search widens itself.
+            thread_local double previous_kth_deg = 0.0;
+            bins.nearest(az, el, g.surface_k, nearest, previous_kth_deg);
+            if (!nearest.empty())
+              previous_kth_deg = std::sqrt(nearest.back().first) + kVoteReachStepDeg;
+            double support[3] = {0.0, 0.0, 0.0};
+            best = 0.0;
+            for (int i = 0; i < 3; ++i) {
+              for (const auto& nn : nearest) {
+                const double z = usable[nn.second].depth;
+                if (std::max(z, t.z[i]) <= ratio * std::min(z, t.z[i])) {
+                  support[i] += 1.0 / (nn.first + kVoteDistanceFloorDeg2);
+                }
+              }
+              if (support[i] > best) {
+                best = support[i];
+                j = i;
               }
             }
-            if (support > best) {
-              best = support;
-              j = i;
+            double rival = 0.0;
+            for (int i = 0; i < 3; ++i) {
+              if (!same_surface(ground, t.z, i, j)) rival = std::max(rival, support[i]);
             }
+            const bool decisive = best > 0.0 && best >= kVoteDecisiveRatio * rival;
+            memory = {frame, &t, pixel, j, decisive ? kVoteReusePixels : 0};
           }
         }
         double weight = 0.0, inverse = 0.0;
@@ -487,7 +522,6 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   // only: more than half of a LiDAR image lies above the highest ring, but the rest is filled.
   if (!gap_lattice) gap_lattice.emplace(nearestSurfaceRows(samples, angles, 1, 1, step, pool));
   const NearestSurfaceRows& nearest = *gap_lattice;
-  const int cols = angles.grid().cols();
   pool.parallelFor(
       angles.grid().rows(),
       [&](long long r, int) {

@@ -218,6 +218,29 @@ TEST(GroundGpDense, OcclusionEdgesAreNotBlended) {
   EXPECT_GT(map.variance[std::size_t(50) * 160 + 100], 1.0f);
 }
 
+TEST(GroundGpDense, EdgeVotesDependOnlyOnTheFrame) {
+  // The occlusion-edge vote of a pixel may be reused for the next pixels of its triangle row; the
+  // reuse must not reach into another frame (a triangle at the same address in the next call) or
+  // depend on the thread count.
+  const auto box = [](int left) {
+    return [left](int u, int v) {
+      return u >= left && u < left + 40 && v >= 30 && v < 70 ? 5.0 : 20.0;
+    };
+  };
+  mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  params.ground.camera_height = 100.0;
+  const auto first = denseScan(0, 120, 3, box(60));
+  const auto second = denseScan(0, 120, 3, box(64));
+  const mm::DepthMap fresh = completeSmallImage(second, params, 1);
+  for (int threads : {1, 2, 3}) {
+    mm::DepthCompleter completer(threads);
+    completer.complete(first, smallCamera(), {smallImage(), 1}, params);
+    const mm::DepthMap after = completer.complete(second, smallCamera(), {smallImage(), 1}, params);
+    EXPECT_EQ(after.depth, fresh.depth) << threads << " threads";
+    EXPECT_EQ(after.variance, fresh.variance) << threads << " threads";
+  }
+}
+
 TEST(GroundGpDense, ColumnsExtendTheirTopmostReturnUpward) {
   // A wall 8 m ahead seen by rings from row 40 down (the LiDAR's highest ring at row 40), over a
   // road 1.3 m below a level camera. A vertical surface keeps its camera depth along an image
