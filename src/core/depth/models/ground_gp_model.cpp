@@ -235,6 +235,10 @@ constexpr double kBridgeSpacings = 20.0;
 
 struct DenseVertexInfo {
   bool ground[3];
+  /// same[a][b]: vertices a and b lie on one surface (both ground returns, or depths within
+  /// dense_edge_ratio); per triangle, so that the rasteriser does not re-derive it per pixel.
+  bool same[3][3];
+  bool edge;  ///< some pair of vertices lies on different surfaces
   float longest_edge_deg;
 };
 
@@ -397,25 +401,31 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   if (overlap) gap_lattice.emplace(nearestSurfaceRows(samples, angles, 1, 1, step, pool));
   if (overlap) triangles = triangulation.get();
   std::vector<DenseVertexInfo> info(triangles.size());
+  const double ratio = 1.0 + g.dense_edge_ratio;
+  const double rel2 = g.dense_relative_sigma * g.dense_relative_sigma;
   pool.parallelFor(
       static_cast<long long>(triangles.size()),
       [&](long long i, int) {
         const AngularTriangle& t = triangles[i];
+        DenseVertexInfo& v = info[i];
         for (int j = 0; j < 3; ++j) {
           const Eigen::Vector2d ray = normalisedFromAngles(t.az[j], t.el[j]);
-          info[i].ground[j] = t.z[j] >= (1.0 - kGroundMargin) * plane.depthAlong(ray.x(), ray.y());
-          info[i].longest_edge_deg =
-              std::max(j == 0 ? 0.0f : info[i].longest_edge_deg,
+          v.ground[j] = t.z[j] >= (1.0 - kGroundMargin) * plane.depthAlong(ray.x(), ray.y());
+          v.longest_edge_deg =
+              std::max(j == 0 ? 0.0f : v.longest_edge_deg,
                        static_cast<float>(
                            std::hypot(t.az[j] - t.az[(j + 1) % 3], t.el[j] - t.el[(j + 1) % 3])));
         }
+        v.edge = false;
+        for (int a = 0; a < 3; ++a) {
+          for (int b = 0; b < 3; ++b) {
+            v.same[a][b] = (v.ground[a] && v.ground[b]) ||
+                           std::max(t.z[a], t.z[b]) <= ratio * std::min(t.z[a], t.z[b]);
+            v.edge |= !v.same[a][b];
+          }
+        }
       },
       1024);
-  const double ratio = 1.0 + g.dense_edge_ratio;
-  const double rel2 = g.dense_relative_sigma * g.dense_relative_sigma;
-  auto same_surface = [ratio](const bool* ground, const double* z, int a, int b) {
-    return (ground[a] && ground[b]) || std::max(z[a], z[b]) <= ratio * std::min(z[a], z[b]);
-  };
   std::vector<std::uint8_t>& filled = scratch.filled;
   // Read only where filled, and written wherever the rasteriser fills: no initialisation.
   std::vector<float>& longest = scratch.longest_edge;
@@ -429,19 +439,19 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
       [&](const AngularTriangle& t, double l0, double l1, double l2, std::size_t pixel, float az,
           float el) {
         const double l[3] = {std::max(0.0, l0), std::max(0.0, l1), std::max(0.0, l2)};
-        longest[pixel] = info[&t - triangles.data()].longest_edge_deg;
-        const bool* ground = info[&t - triangles.data()].ground;
-        const bool edge = !same_surface(ground, t.z, 0, 1) || !same_surface(ground, t.z, 0, 2) ||
-                          !same_surface(ground, t.z, 1, 2);
+        const DenseVertexInfo& v = info[&t - triangles.data()];
+        longest[pixel] = v.longest_edge_deg;
+        const bool edge = v.edge;
         // The surface the pixel lies on: without an edge, all three vertices'. Across an edge, the
         // vertex depth with the most support among the pixel's nearest samples, each weighted by
         // its inverse squared angular distance: a vote of several returns, so that one stray return
         // (a background return seen past the edge from the LiDAR's viewpoint, a return through
         // foliage) does not decide alone as it does for the nearest-sample baseline. No support at
-        // all: the nearest vertex.
+        // all: the nearest vertex. (Without an edge every vertex is on the pixel's surface, so j
+        // does not matter there.)
         int j = 0;
         double best = -1.0;
-        for (int i = 0; i < 3; ++i) {
+        for (int i = 0; edge && i < 3; ++i) {
           const double d2 = (az - t.az[i]) * (az - t.az[i]) + (el - t.el[i]) * (el - t.el[i]);
           if (best < 0.0 || d2 < best) {
             best = d2;
@@ -484,7 +494,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
             }
             double rival = 0.0;
             for (int i = 0; i < 3; ++i) {
-              if (!same_surface(ground, t.z, i, j)) rival = std::max(rival, support[i]);
+              if (!v.same[i][j]) rival = std::max(rival, support[i]);
             }
             const bool decisive = best > 0.0 && best >= kVoteDecisiveRatio * rival;
             memory = {frame, &t, pixel, j, decisive ? kVoteReusePixels : 0};
@@ -492,7 +502,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
         }
         double weight = 0.0, inverse = 0.0;
         for (int i = 0; i < 3; ++i) {
-          if (i != j && !same_surface(ground, t.z, i, j)) continue;
+          if (i != j && !v.same[i][j]) continue;
           weight += l[i];
           inverse += l[i] / t.z[i];
         }
