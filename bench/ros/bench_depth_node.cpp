@@ -1,8 +1,10 @@
-// bench_depth_node: feeds a running depth completion node with View-of-Delft radar + camera
-// messages at full resolution and a fixed rate, and reports end-to-end latency (publish here ->
-// depth/image received here), the node's own latency (receipt -> publish, from depth/stats), its
-// compute time, and how many input sets produced no output. Driven by scripts/bench_depth_node.sh;
-// not a test.
+// bench_depth_node: feeds a running depth completion node with View-of-Delft radar or LiDAR +
+// camera messages at full resolution, and reports end-to-end latency (publish here -> depth/image
+// received here), the node's own latency (receipt -> publish, from depth/stats), its compute time,
+// and how many scans produced no output. Radar and camera share one rate (--rate); LiDAR
+// (--sensor lidar) runs at --points-rate (10 Hz) and the camera at --rate (15 Hz) with their own
+// stamps, as real sensors do, so the node's synchroniser pairs each scan with an image. Driven by
+// bench/ros/bench_depth_node.sh; not a test.
 #include <multimodal_nvs/DepthCompletionStats.h>
 #include <ros/ros.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -31,13 +33,19 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 constexpr const char* kCameraFrame = "vod_camera";
-constexpr const char* kRadarFrame = "vod_radar";
+constexpr const char* kSensorFrame = "vod_sensor";
 
-sensor_msgs::PointCloud2 radarCloud(const std::vector<float>& records) {
+/// The frame's scan as a PointCloud2 with the fields of its VoD file.
+sensor_msgs::PointCloud2 sensorCloud(const mm::io::VodFrame& frame, const std::string& sensor) {
   std_msgs::Header header;
-  header.frame_id = kRadarFrame;
+  header.frame_id = kSensorFrame;
+  if (sensor == "lidar") {
+    return mm::ros_conversions::float32Cloud(
+        {"x", "y", "z", "intensity"}, mm::io::readFloatRecords(frame.points("lidar"), 4), header);
+  }
   return mm::ros_conversions::float32Cloud({"x", "y", "z", "rcs", "v_r", "v_r_compensated", "time"},
-                                           records, header);
+                                           mm::io::readFloatRecords(frame.points("radar"), 7),
+                                           header);
 }
 
 geometry_msgs::TransformStamped extrinsic(const mm::SensorToCamera& tr) {
@@ -45,7 +53,7 @@ geometry_msgs::TransformStamped extrinsic(const mm::SensorToCamera& tr) {
   const Eigen::Quaterniond q(Eigen::Matrix3d(tr.leftCols<3>()));
   geometry_msgs::TransformStamped t;
   t.header.frame_id = kCameraFrame;
-  t.child_frame_id = kRadarFrame;
+  t.child_frame_id = kSensorFrame;
   t.transform.translation.x = tr(0, 3);
   t.transform.translation.y = tr(1, 3);
   t.transform.translation.z = tr(2, 3);
@@ -76,13 +84,22 @@ std::string argValue(int argc, char** argv, const std::string& name, const std::
 int main(int argc, char** argv) {
   ros::init(argc, argv, "bench_depth_node", ros::init_options::AnonymousName);
   const std::string root = argValue(argc, argv, "vod-root", "../shared/data/vod");
-  const mm::io::VodFrame frame{root,
-                               mm::io::parseFrameNumber(argValue(argc, argv, "frame", "08350"))};
+  const std::string sensor = argValue(argc, argv, "sensor", "radar");
+  if (sensor != "radar" && sensor != "lidar") {
+    ROS_FATAL("--sensor must be radar or lidar, not %s", sensor.c_str());
+    return 2;
+  }
+  const mm::io::VodFrame frame{
+      root, mm::io::parseFrameNumber(
+                argValue(argc, argv, "frame", sensor == "lidar" ? "00549" : "08350"))};
   const double rate_hz = std::stod(argValue(argc, argv, "rate", "15"));
+  // LiDAR at its own rate; radar is published with every image, as before.
+  const double points_rate_hz =
+      sensor == "lidar" ? std::stod(argValue(argc, argv, "points-rate", "10")) : rate_hz;
   const int frames = std::stoi(argValue(argc, argv, "frames", "150"));
   const bool with_points = argValue(argc, argv, "with-points", "0") == "1";
 
-  const mm::io::KittiCalib calib = mm::io::readKittiCalib(frame.calib("radar"));
+  const mm::io::KittiCalib calib = mm::io::readKittiCalib(frame.calib(sensor));
   const mm::PinholeIntrinsics k = calib.intrinsics();
   cv::Mat bgr = cv::imread(frame.image(), cv::IMREAD_COLOR);
   if (bgr.empty()) {
@@ -104,7 +121,7 @@ int main(int argc, char** argv) {
   info.width = image.width;
   info.K = {k.fx, 0, k.cx, 0, k.fy, k.cy, 0, 0, 1};
   info.P = {k.fx, 0, k.cx, 0, 0, k.fy, k.cy, 0, 0, 0, 1, 0};
-  sensor_msgs::PointCloud2 cloud = radarCloud(mm::io::readFloatRecords(frame.points("radar"), 7));
+  sensor_msgs::PointCloud2 cloud = sensorCloud(frame, sensor);
 
   ros::NodeHandle nh;
   tf2_ros::StaticTransformBroadcaster static_tf;
@@ -145,15 +162,28 @@ int main(int argc, char** argv) {
   ros::AsyncSpinner spinner(2);
   spinner.start();
 
-  auto publishSet = [&](const ros::Time& stamp) {
-    cloud.header.stamp = image.header.stamp = info.header.stamp = stamp;
+  // The depth image carries the stamp of the image or of the scan it was made from: both are
+  // remembered with their publication time.
+  auto publishPoints = [&](const ros::Time& stamp) {
+    cloud.header.stamp = stamp;
     {
       std::lock_guard<std::mutex> lock(mutex);
       sent[stamp] = Clock::now();
     }
     points_pub.publish(cloud);
+  };
+  auto publishImage = [&](const ros::Time& stamp) {
+    image.header.stamp = info.header.stamp = stamp;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      sent.emplace(stamp, Clock::now());
+    }
     info_pub.publish(info);
     image_pub.publish(image);
+  };
+  auto publishSet = [&](const ros::Time& stamp) {
+    publishPoints(stamp);
+    publishImage(stamp);
   };
   // Warm-up: until the node (lazy) has subscribed and answered; also fills its per-camera caches.
   const ros::WallTime give_up = ros::WallTime::now() + ros::WallDuration(30.0);
@@ -173,24 +203,46 @@ int main(int argc, char** argv) {
     received = 0;
     sent.clear();
   }
-  ros::WallRate rate(rate_hz);
-  for (int i = 0; i < frames && ros::ok(); ++i) {
-    publishSet(ros::Time::now());
-    rate.sleep();
+  // One clock for both streams: every sensor publishes at the first tick at or after its due time.
+  const ros::WallTime start = ros::WallTime::now();
+  int scans = 0, images = 0;
+  while (scans < frames && ros::ok()) {
+    const double next_scan = scans / points_rate_hz, next_image = images / rate_hz;
+    const double due = std::min(next_scan, next_image);
+    const ros::WallTime at = start + ros::WallDuration(due);
+    const ros::WallDuration wait = at - ros::WallTime::now();
+    if (wait > ros::WallDuration(0)) wait.sleep();
+    const ros::Time stamp = ros::Time::now();
+    if (sensor == "radar") {
+      publishSet(stamp);
+      ++scans;
+      ++images;
+      continue;
+    }
+    if (next_scan <= due) {
+      publishPoints(stamp);
+      ++scans;
+    }
+    if (next_image <= due) {
+      publishImage(stamp);
+      ++images;
+    }
   }
   ros::WallDuration(2.0).sleep();
   spinner.stop();
 
   std::lock_guard<std::mutex> lock(mutex);
   std::printf(
-      "{\"frame\": \"%s\", \"image\": \"%dx%d\", \"radar_points\": %u, \"rate_hz\": %.1f, "
+      "{\"frame\": \"%s\", \"sensor\": \"%s\", \"image\": \"%dx%d\", \"points\": %u, "
+      "\"points_rate_hz\": %.1f, \"image_rate_hz\": %.1f, "
       "\"sent\": %d, \"received\": %zu, \"dropped\": %d, "
       "\"end_to_end_ms\": {\"median\": %.1f, \"p90\": %.1f, \"max\": %.1f}, "
       "\"node_latency_ms\": {\"median\": %.1f, \"p90\": %.1f}, \"compute_ms_median\": %.1f, "
       "\"with_points\": %s}\n",
-      frame.id().c_str(), image.width, image.height, cloud.width, rate_hz, frames, received,
-      frames - int(received), percentile(end_to_end_ms, 50), percentile(end_to_end_ms, 90),
-      percentile(end_to_end_ms, 100), percentile(node_latency_ms, 50),
-      percentile(node_latency_ms, 90), percentile(compute_ms, 50), with_points ? "true" : "false");
+      frame.id().c_str(), sensor.c_str(), image.width, image.height, cloud.width, points_rate_hz,
+      rate_hz, frames, received, frames - int(received), percentile(end_to_end_ms, 50),
+      percentile(end_to_end_ms, 90), percentile(end_to_end_ms, 100),
+      percentile(node_latency_ms, 50), percentile(node_latency_ms, 90), percentile(compute_ms, 50),
+      with_points ? "true" : "false");
   return 0;
 }
