@@ -17,6 +17,7 @@
 #include <future>
 #include <limits>
 #include <optional>
+#include <system_error>
 #include <type_traits>
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
@@ -381,15 +382,18 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   // the pool builds what does not depend on it: the k-nearest bins and the gap fill's lattice.
   // Why: on one thread it left the second core idle for a sixth of the frame. With a pool of one
   // thread the caller asked for one thread, and everything runs in order.
-  const bool overlap = pool.size() > 1;
+  bool overlap = pool.size() > 1;
   std::future<std::vector<AngularTriangle>> triangulation;
   std::vector<AngularTriangle> triangles;
   if (overlap) {
-    triangulation =
-        std::async(std::launch::async, [&] { return triangulateSamples(samples, angles); });
-  } else {
-    triangles = triangulateSamples(samples, angles);
+    try {
+      triangulation =
+          std::async(std::launch::async, [&] { return triangulateSamples(samples, angles); });
+    } catch (const std::system_error&) {
+      overlap = false;  // no thread to be had (a process at its limit): the same work in order
+    }
   }
+  if (!overlap) triangles = triangulateSamples(samples, angles);
   // Occlusion edges are decided by the pixel's surface_k nearest samples (any triangle).
   const std::vector<AngularSample> usable = usableSamples(samples);
   const AngularBins bins(usable, kDenseBinDeg);
