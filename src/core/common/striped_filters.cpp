@@ -35,7 +35,7 @@ template <typename Filter>
 void byStripesWithContext(const cv::Mat& in, cv::Mat& out, int halo, int stripe_rows,
                           ThreadPool& pool, const Filter& filter) {
   const int rows = in.rows;
-  const int stripes = std::max(1, std::min(rows / std::max(1, stripe_rows), rows));
+  const int stripes = std::max(1, rows / std::max(1, stripe_rows));
   out.create(in.size(), in.type());
   pool.parallelFor(stripes, [&](long long s, int) {
     const int r0 = static_cast<int>(s * rows / stripes);

@@ -3,7 +3,6 @@
 // grid: shared by the `linear` baseline and the dense-input mode of `ground_gp`.
 #include <algorithm>
 #include <cstdint>
-#include <utility>
 #include <vector>
 
 #include "multimodal_nvs/core/common/thread_pool.hpp"
@@ -44,28 +43,20 @@ void rasterizeTriangles(const std::vector<AngularTriangle>& triangles, const Pix
   // Each band's triangles, in the triangles' order (the first to write a pixel wins): walking all
   // triangles in every band read the whole list (~100 bytes a triangle) 76 times per VoD frame.
   std::vector<int> band_start(std::size_t(bands) + 1, 0), band_triangles;
-  const auto bandSpan = [&](const AngularTriangle& t) {
-    return std::make_pair(std::max(0, t.row0) / band_rows, std::min(rows - 1, t.row1) / band_rows);
+  // Calls visit(band) for every band a triangle's rows meet.
+  const auto forEachBand = [&](const AngularTriangle& t, auto&& visit) {
+    if (t.row0 > t.row1 || t.row1 < 0 || t.row0 >= rows) return;
+    for (int b = std::max(0, t.row0) / band_rows; b <= std::min(rows - 1, t.row1) / band_rows; ++b)
+      visit(b);
   };
-  for (const AngularTriangle& t : triangles) {
-    if (t.row0 > t.row1 || t.row1 < 0 || t.row0 >= rows) continue;
-    const auto [b0, b1] = bandSpan(t);
-    for (int b = b0; b <= b1; ++b)
-      ++band_start[b + 1];
-  }
+  for (const AngularTriangle& t : triangles)
+    forEachBand(t, [&](int b) { ++band_start[b + 1]; });
   for (int b = 0; b < bands; ++b)
     band_start[b + 1] += band_start[b];
   band_triangles.resize(band_start[bands]);
-  {
-    std::vector<int> next(band_start.begin(), band_start.end() - 1);
-    for (std::size_t i = 0; i < triangles.size(); ++i) {
-      const AngularTriangle& t = triangles[i];
-      if (t.row0 > t.row1 || t.row1 < 0 || t.row0 >= rows) continue;
-      const auto [b0, b1] = bandSpan(t);
-      for (int b = b0; b <= b1; ++b)
-        band_triangles[next[b]++] = static_cast<int>(i);
-    }
-  }
+  std::vector<int> next(band_start.begin(), band_start.end() - 1);
+  for (std::size_t i = 0; i < triangles.size(); ++i)
+    forEachBand(triangles[i], [&](int b) { band_triangles[next[b]++] = static_cast<int>(i); });
   pool.parallelFor(bands, [&](long long b, int) {
     const int r_begin = static_cast<int>(b) * band_rows;
     const int r_end = std::min(rows, r_begin + band_rows);

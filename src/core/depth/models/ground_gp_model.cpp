@@ -234,6 +234,25 @@ constexpr double kColumnBandSpacings = 0.5;
 // returns; above a column's topmost return the column extension replaces its interpolation.
 constexpr double kBridgeSpacings = 20.0;
 
+/// Two depths of one surface: the larger at most `ratio` times the smaller.
+inline bool depthsWithinRatio(double a, double b, double ratio) {
+  return std::max(a, b) <= ratio * std::min(a, b);
+}
+
+/// The vertex of `t` nearest to (az, el) in the angular plane (the first of a tie).
+int nearestVertex(const AngularTriangle& t, float az, float el) {
+  int j = 0;
+  double best = -1.0;
+  for (int i = 0; i < 3; ++i) {
+    const double d2 = (az - t.az[i]) * (az - t.az[i]) + (el - t.el[i]) * (el - t.el[i]);
+    if (best < 0.0 || d2 < best) {
+      best = d2;
+      j = i;
+    }
+  }
+  return j;
+}
+
 struct DenseVertexInfo {
   bool ground[3];
   /// same[a][b]: vertices a and b lie on one surface (both ground returns, or depths within
@@ -423,8 +442,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
         v.edge = false;
         for (int a = 0; a < 3; ++a) {
           for (int b = 0; b < 3; ++b) {
-            v.same[a][b] = (v.ground[a] && v.ground[b]) ||
-                           std::max(t.z[a], t.z[b]) <= ratio * std::min(t.z[a], t.z[b]);
+            v.same[a][b] = (v.ground[a] && v.ground[b]) || depthsWithinRatio(t.z[a], t.z[b], ratio);
             v.edge |= !v.same[a][b];
           }
         }
@@ -445,24 +463,14 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
         const double l[3] = {std::max(0.0, l0), std::max(0.0, l1), std::max(0.0, l2)};
         const DenseVertexInfo& v = info[&t - triangles.data()];
         longest[pixel] = v.longest_edge_deg;
-        const bool edge = v.edge;
-        // The surface the pixel lies on: without an edge, all three vertices'. Across an edge, the
-        // vertex depth with the most support among the pixel's nearest samples, each weighted by
-        // its inverse squared angular distance: a vote of several returns, so that one stray return
-        // (a background return seen past the edge from the LiDAR's viewpoint, a return through
-        // foliage) does not decide alone as it does for the nearest-sample baseline. No support at
-        // all: the nearest vertex. (Without an edge every vertex is on the pixel's surface, so j
-        // does not matter there.)
+        // The surface the pixel lies on: without an edge, all three vertices' (so j does not
+        // matter). Across an edge, the vertex depth with the most support among the pixel's
+        // nearest samples, each weighted by its inverse squared angular distance: a vote of
+        // several returns, so that one stray return (a background return seen past the edge from
+        // the LiDAR's viewpoint, a return through foliage) does not decide alone as it does for
+        // the nearest-sample baseline. No support at all: the nearest vertex.
         int j = 0;
-        double best = -1.0;
-        for (int i = 0; edge && i < 3; ++i) {
-          const double d2 = (az - t.az[i]) * (az - t.az[i]) + (el - t.el[i]) * (el - t.el[i]);
-          if (best < 0.0 || d2 < best) {
-            best = d2;
-            j = i;
-          }
-        }
-        if (edge) {
+        if (v.edge) {
           // A decisive vote (the winning surface has kVoteDecisiveRatio times the support of any
           // other) stands for the next kVoteReusePixels pixels of the same triangle row: the k
           // nearest returns of neighbouring pixels are nearly the same, and the queries were the
@@ -474,6 +482,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
             --memory.reuses_left;
             memory.pixel = pixel;
           } else {
+            j = nearestVertex(t, az, el);
             thread_local std::vector<std::pair<double, int>> nearest;
             // Edge pixels come in runs along a row: the previous query's k-th distance plus the
             // step to this pixel bounds this one's (triangle inequality), so one round of the bin
@@ -483,11 +492,10 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
             if (!nearest.empty())
               previous_kth_deg = std::sqrt(nearest.back().first) + kVoteReachStepDeg;
             double support[3] = {0.0, 0.0, 0.0};
-            best = 0.0;
+            double best = 0.0;
             for (int i = 0; i < 3; ++i) {
               for (const auto& nn : nearest) {
-                const double z = usable[nn.second].depth;
-                if (std::max(z, t.z[i]) <= ratio * std::min(z, t.z[i])) {
+                if (depthsWithinRatio(usable[nn.second].depth, t.z[i], ratio)) {
                   support[i] += 1.0 / (nn.first + kVoteDistanceFloorDeg2);
                 }
               }
