@@ -56,24 +56,4 @@ inline bool withinRadius(float az_pixel, float el_pixel, float az_sample, float 
   return da2 + de2 <= radius_sq;
 }
 
-/// Calls visit(row, segment, row_azimuth, row_elevation, worker) for every segment of every grid
-/// row, rows spread over the pool `rows_per_chunk` at a time: how the local GP reaches its pixels.
-/// (The kernel model keeps its own row loop: its weight scratch lives per row, which measured 20 %
-/// faster than per-thread scratch through this function.)
-template <class Visit>
-void forEachSegment(const NeighbourSets& sets, const PixelAngleGrid& angles, ThreadPool& pool,
-                    long long rows_per_chunk, Visit&& visit) {
-  pool.parallelFor(
-      angles.grid().rows(),
-      [&](long long row_index, int worker) {
-        const int row = static_cast<int>(row_index);
-        const float* az = angles.azimuthRow(row);
-        const float* el = angles.elevationRow(row);
-        for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
-          visit(row, sets.segments()[k], az, el, worker);
-        }
-      },
-      rows_per_chunk);
-}
-
 }  // namespace multimodal_nvs

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <type_traits>
 #include <vector>
 
 namespace multimodal_nvs {
@@ -34,10 +35,19 @@ void predictBlocks(const double* packed_factor, const double* beta, const float*
   w.resize(std::size_t(n) * kMaxStackPixels + kPacket, Real(0));
   for (int p0 = 0; p0 < pixels; p0 += kMaxStackPixels) {
     const int m = std::min(kMaxStackPixels, pixels - p0);
-    Real paz[kMaxStackPixels], pel[kMaxStackPixels];
-    for (int p = 0; p < m; ++p) {
-      paz[p] = pixel_az[p0 + p];
-      pel[p] = pixel_el[p0 + p];
+    // The pixel angles in the working precision: read in place when that is float (a copy of a
+    // ~15-pixel segment was a library memcpy call per segment).
+    Real az_copy[kMaxStackPixels], el_copy[kMaxStackPixels];
+    const Real* paz = az_copy;
+    const Real* pel = el_copy;
+    if constexpr (std::is_same_v<Real, float>) {
+      paz = pixel_az + p0;
+      pel = pixel_el + p0;
+    } else {
+      for (int p = 0; p < m; ++p) {
+        az_copy[p] = pixel_az[p0 + p];
+        el_copy[p] = pixel_el[p0 + p];
+      }
     }
     for (int i = 0; i < n; ++i) {
       Real* wi = w.data() + std::size_t(i) * m;

@@ -31,8 +31,11 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
                     const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
                     PixelPredictions& out, PredictionPrecision precision) {
   const LocalGpParams& gp = params.gp;
-  fillPredictions(angles, static_cast<float>(prior.constant),
-                  static_cast<float>(gp.priorVariance()), pool, out);
+  // Sized only: the per-pixel pass below writes every pixel, the prior wherever no solved set
+  // reaches, in the same row pass (a separate full-image fill measured ~3 % of a radar frame).
+  const std::size_t pixel_count = static_cast<std::size_t>(angles.grid().size());
+  out.mean.resize(pixel_count);
+  out.variance.resize(pixel_count);
 
   // Storage for every set's posterior, laid out by prefix sums so sets can be solved in parallel.
   const int set_count = sets.setCount();
@@ -153,18 +156,38 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
       4);
 
   const int cols = angles.grid().cols();
-  forEachSegment(sets, angles, pool, 4,
-                 [&](int row, const NeighbourSegment& seg, const float* az, const float* el, int) {
-                   if (!solved[seg.set_id]) return;
-                   const std::size_t pixel = std::size_t(row) * cols + seg.col_begin;
-                   const std::size_t member = member_offset[seg.set_id];
-                   predictFromFactor(
-                       factors.data() + factor_offset[seg.set_id], betas.data() + member,
-                       member_az.data() + member, member_el.data() + member,
-                       sets.setSize(seg.set_id), length_scales[seg.set_id], gp, az + seg.col_begin,
-                       el + seg.col_begin, seg.col_end - seg.col_begin, prior.constant,
-                       out.mean.data() + pixel, out.variance.data() + pixel, precision);
-                 });
+  const float prior_mean = static_cast<float>(prior.constant);
+  const float prior_variance = static_cast<float>(gp.priorVariance());
+  pool.parallelFor(
+      angles.grid().rows(),
+      [&](long long row_index, int) {
+        const int row = static_cast<int>(row_index);
+        const float* az = angles.azimuthRow(row);
+        const float* el = angles.elevationRow(row);
+        float* mean_row = out.mean.data() + std::size_t(row) * cols;
+        float* variance_row = out.variance.data() + std::size_t(row) * cols;
+        int filled_to = 0;  // pixels before this column are written
+        const auto fill_prior = [&](int end) {
+          std::fill(mean_row + filled_to, mean_row + end, prior_mean);
+          std::fill(variance_row + filled_to, variance_row + end, prior_variance);
+          filled_to = end;
+        };
+        for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
+          const NeighbourSegment& seg = sets.segments()[k];
+          if (!solved[seg.set_id]) continue;  // its pixels keep the prior
+          fill_prior(seg.col_begin);
+          const std::size_t member = member_offset[seg.set_id];
+          predictFromFactor(factors.data() + factor_offset[seg.set_id], betas.data() + member,
+                            member_az.data() + member, member_el.data() + member,
+                            sets.setSize(seg.set_id), length_scales[seg.set_id], gp,
+                            az + seg.col_begin, el + seg.col_begin, seg.col_end - seg.col_begin,
+                            prior.constant, mean_row + seg.col_begin,
+                            variance_row + seg.col_begin, precision);
+          filled_to = seg.col_end;
+        }
+        fill_prior(cols);
+      },
+      4);
 }
 
 }  // namespace multimodal_nvs
