@@ -82,53 +82,6 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
   for (int c = 0; c < cols; ++c)
     column_x[c] = (double(c) * grid.stride - k.cx) / k.fx;
 
-  if (g.residual_amplitude > 0.0) {
-    // The prior at each sample's own direction: ground capped by the prior of the nearest grid
-    // pixel (the lattice is only known on the grid).
-    std::vector<double> residual(samples.size(), 0.0);
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      const Eigen::Vector2d ray =
-          normalisedFromAngles(samples[i].azimuth_deg, samples[i].elevation_deg);
-      double pu = k.fx * ray.x() + k.cx, pv = k.fy * ray.y() + k.cy;
-      if (angles.distorted() &&
-          !angularToPixel(k, samples[i].azimuth_deg, samples[i].elevation_deg, &pu, &pv)) {
-        pu = pv = -1e9;  // past the lens model's range: off the grid
-      }
-      const int c = static_cast<int>(std::lround(pu / grid.stride));
-      const int r = static_cast<int>(std::lround(pv / grid.stride));
-      double at_sample = plane.depthAlong(ray.x(), ray.y());
-      if (r >= 0 && c >= 0 && r < rows && c < cols) {
-        const double y = (r * grid.stride - k.cy) / k.fy;
-        const Eigen::Vector2d pixel_ray =
-            angles.distorted() ? angles.normalisedRay(r, c) : Eigen::Vector2d(column_x[c], y);
-        const float ground = static_cast<float>(plane.depthAlong(pixel_ray.x(), pixel_ray.y()));
-        at_sample = std::min<double>(at_sample, priorDepth(ground, surface.depth(r, c), farf));
-      }
-      // A return behind the prior surface is an occluded or multipath return: it says nothing
-      // about the first surface, so it only confirms the prior (residual 0). A nearer return
-      // reveals a surface in front of the prior and pulls the prediction towards it.
-      // Residuals beyond 3 GP standard deviations are clipped (a Huber-like robust target), so one
-      // stray near return cannot drag a neighbourhood through the camera.
-      residual[i] = std::isfinite(at_sample)
-                        ? std::clamp(samples[i].depth - at_sample, -3.0 * g.residual_amplitude, 0.0)
-                        : 0.0;
-    }
-    DepthCompletionParams residual_params = params;
-    residual_params.gp.amplitude = g.residual_amplitude;
-    residual_params.gp.tolerance = std::max(params.gp.tolerance, kResidualLengthScaleToleranceDeg);
-    // The GP around a zero mean: out.mean is the residual's posterior mean (0 without a set); the
-    // prior is added below.
-    if (sets != nullptr) {
-      // Single precision in the per-pixel step: this model keeps no parity with the reference,
-      // and the residual GP's small amplitude keeps its factors well conditioned.
-      predictLocalGp(samples, residual, angles, *sets, residual_params, PriorMean{0.0}, pool, out,
-                     PredictionPrecision::kSingle);
-    } else {
-      predictTiledLocalGp(samples, residual, angles, residual_params, PriorMean{0.0}, pool, out);
-    }
-  } else {
-    fillPredictions(angles, 0.0f, 0.0f, pool, out);
-  }
   // A distorted camera's rays are not separable into a column's x and a row's y: its pass reads
   // each pixel's ray from the grid's table (a separate instantiation, so that the pinhole pass
   // keeps its arithmetic and vectorisation).
@@ -172,16 +125,63 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
       variance_row[c] += sigma * sigma;
     }
   };
-  pool.parallelFor(
-      rows,
-      [&](long long r, int) {
-        if (angles.distorted()) {
-          row_pass(r, std::true_type{});
-        } else {
-          row_pass(r, std::false_type{});
-        }
-      },
-      16);
+  const auto finish_row = [&](long long r) {
+    if (angles.distorted()) {
+      row_pass(r, std::true_type{});
+    } else {
+      row_pass(r, std::false_type{});
+    }
+  };
+  if (g.residual_amplitude > 0.0) {
+    // The prior at each sample's own direction: ground capped by the prior of the nearest grid
+    // pixel (the lattice is only known on the grid).
+    std::vector<double> residual(samples.size(), 0.0);
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const Eigen::Vector2d ray =
+          normalisedFromAngles(samples[i].azimuth_deg, samples[i].elevation_deg);
+      double pu = k.fx * ray.x() + k.cx, pv = k.fy * ray.y() + k.cy;
+      if (angles.distorted() &&
+          !angularToPixel(k, samples[i].azimuth_deg, samples[i].elevation_deg, &pu, &pv)) {
+        pu = pv = -1e9;  // past the lens model's range: off the grid
+      }
+      const int c = static_cast<int>(std::lround(pu / grid.stride));
+      const int r = static_cast<int>(std::lround(pv / grid.stride));
+      double at_sample = plane.depthAlong(ray.x(), ray.y());
+      if (r >= 0 && c >= 0 && r < rows && c < cols) {
+        const double y = (r * grid.stride - k.cy) / k.fy;
+        const Eigen::Vector2d pixel_ray =
+            angles.distorted() ? angles.normalisedRay(r, c) : Eigen::Vector2d(column_x[c], y);
+        const float ground = static_cast<float>(plane.depthAlong(pixel_ray.x(), pixel_ray.y()));
+        at_sample = std::min<double>(at_sample, priorDepth(ground, surface.depth(r, c), farf));
+      }
+      // A return behind the prior surface is an occluded or multipath return: it says nothing
+      // about the first surface, so it only confirms the prior (residual 0). A nearer return
+      // reveals a surface in front of the prior and pulls the prediction towards it.
+      // Residuals beyond 3 GP standard deviations are clipped (a Huber-like robust target), so one
+      // stray near return cannot drag a neighbourhood through the camera.
+      residual[i] = std::isfinite(at_sample)
+                        ? std::clamp(samples[i].depth - at_sample, -3.0 * g.residual_amplitude, 0.0)
+                        : 0.0;
+    }
+    DepthCompletionParams residual_params = params;
+    residual_params.gp.amplitude = g.residual_amplitude;
+    residual_params.gp.tolerance = std::max(params.gp.tolerance, kResidualLengthScaleToleranceDeg);
+    // The GP around a zero mean: out.mean is the residual's posterior mean (0 without a set); the
+    // prior is added below.
+    if (sets != nullptr) {
+      // Single precision in the per-pixel step: this model keeps no parity with the reference,
+      // and the residual GP's small amplitude keeps its factors well conditioned.
+      // The prior pass runs on each row as soon as the GP has written it (in cache).
+      predictLocalGp(samples, residual, angles, *sets, residual_params, PriorMean{0.0}, pool, out,
+                     PredictionPrecision::kSingle, finish_row);
+      return;
+    } else {
+      predictTiledLocalGp(samples, residual, angles, residual_params, PriorMean{0.0}, pool, out);
+    }
+  } else {
+    fillPredictions(angles, 0.0f, 0.0f, pool, out);
+  }
+  pool.parallelFor(rows, [&](long long r, int) { finish_row(r); }, 16);
 }
 
 // ---------------------------------------------------------------------------------------------

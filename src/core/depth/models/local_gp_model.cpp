@@ -29,7 +29,8 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
 void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
                     const PixelAngleGrid& angles, const NeighbourSets& sets,
                     const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
-                    PixelPredictions& out, PredictionPrecision precision) {
+                    PixelPredictions& out, PredictionPrecision precision,
+                    const std::function<void(int row)>& finish_row) {
   const LocalGpParams& gp = params.gp;
   // Sized only: the per-pixel pass below writes every pixel, the prior wherever no solved set
   // reaches, in the same row pass (a separate full-image fill measured ~3 % of a radar frame).
@@ -186,6 +187,7 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
           filled_to = seg.col_end;
         }
         fill_prior(cols);
+        if (finish_row) finish_row(row);
       },
       4);
 }

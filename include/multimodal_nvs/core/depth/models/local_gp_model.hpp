@@ -1,5 +1,6 @@
 #pragma once
 // `local_gp_mle`: the exact localized GP of the paper (reference parity), per neighbour set.
+#include <functional>
 #include <vector>
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
@@ -12,7 +13,7 @@
 namespace multimodal_nvs {
 
 /// The GP's prior mean: a constant (the reference's shift). A per-pixel prior (ground_gp) is added
-/// by the caller in its own final pass over the image, which saves copying it into the output.
+/// by the caller (see `finish_row` below), which saves copying it into the output.
 struct PriorMean {
   double constant = 0.0;
 };
@@ -26,11 +27,15 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
 /// The same GP on explicit targets (sample depth minus the prior at the sample) around a prior
 /// mean: mean = prior + k*^T K^-1 y. With a constant prior c and targets z - c it is the model
 /// above. `precision`: of the per-pixel step only (the sets' searches and factors stay double).
+/// `finish_row(row)`, when given, runs on the worker right after the row's pixels are written, while
+/// they are still in cache: a caller's per-pixel pass over the GP's output (ground_gp adds its prior
+/// there) then costs no second trip through memory.
 void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
                     const PixelAngleGrid& angles, const NeighbourSets& sets,
                     const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
                     PixelPredictions& out,
-                    PredictionPrecision precision = PredictionPrecision::kDouble);
+                    PredictionPrecision precision = PredictionPrecision::kDouble,
+                    const std::function<void(int row)>& finish_row = nullptr);
 
 /// Targets y = float32(z) - float32(shift) in float32, promoted to double (reference arithmetic).
 std::vector<double> shiftedTargets(const std::vector<AngularSample>& samples, double shift);
