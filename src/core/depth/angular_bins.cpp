@@ -24,6 +24,12 @@ AngularBins::AngularBins(const std::vector<AngularSample>& samples, double bin_d
   std::vector<int> fill(start_.begin(), start_.end() - 1);
   for (std::size_t i = 0; i < samples.size(); ++i)
     order_[fill[binOf(samples[i])]++] = int(i);
+  sample_az_.resize(samples.size());
+  sample_el_.resize(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    sample_az_[i] = samples[i].azimuth_deg;
+    sample_el_[i] = samples[i].elevation_deg;
+  }
   binned_az_.resize(order_.size());
   binned_el_.resize(order_.size());
   for (std::size_t k = 0; k < order_.size(); ++k) {
@@ -38,6 +44,40 @@ std::size_t AngularBins::binOf(const AngularSample& s) const {
   return std::size_t(y) * nx_ + x;
 }
 
+void AngularBins::collect(double az, double el, double reach, std::size_t k, double bound,
+                          std::vector<std::pair<double, int>>& out) const {
+  out.clear();
+  // The k smallest (distance, index) pairs are kept sorted by insertion: k is small (8) and most
+  // candidates fail the first comparison, where collecting every candidate and partitioning them
+  // (nth_element) mispredicted its branches. Each bin row is walked only across the disc of radius
+  // `reach`: at the row's nearest elevation to the query the disc is 2 sqrt(reach^2 - dy^2) wide
+  // (a square walk visits 4/pi times the samples). Samples outside the disc are farther than
+  // reach, and the caller accepts the result only if the k-th distance is within reach, so
+  // skipping them changes nothing.
+  const auto [y0, y1] = binSpan(el - reach, el + reach, min_el_, ny_);
+  for (int y = y0; y <= y1; ++y) {
+    const double row_lo = min_el_ + y * bin_, row_hi = row_lo + bin_;
+    const double dy = el < row_lo ? row_lo - el : (el > row_hi ? el - row_hi : 0.0);
+    const double half = std::sqrt(std::max(0.0, reach * reach - dy * dy));
+    const auto [x0, x1] = binSpan(az - half, az + half, min_az_, nx_);
+    if (x0 > x1) continue;
+    const std::size_t row = std::size_t(y) * nx_;
+    for (int b = start_[row + x0]; b < start_[row + x1 + 1]; ++b) {
+      const double da = binned_az_[b] - az, de = binned_el_[b] - el;
+      const std::pair<double, int> candidate(da * da + de * de, order_[b]);
+      if (candidate.first > bound) continue;
+      if (out.size() == k) {
+        if (!(candidate < out.back())) continue;
+        out.back() = candidate;
+      } else {
+        out.push_back(candidate);
+      }
+      for (std::size_t i = out.size() - 1; i > 0 && out[i] < out[i - 1]; --i)
+        std::swap(out[i], out[i - 1]);
+    }
+  }
+}
+
 void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<double, int>>& out,
                           double start_reach) const {
   out.clear();
@@ -48,40 +88,37 @@ void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<dou
   const double extent = std::max({max_az_ - min_az_, max_el_ - min_el_, bin_}) +
                         std::abs(az - min_az_) + std::abs(el - min_el_);
   for (double reach = std::max(bin_, start_reach);; reach *= 2.0) {
-    out.clear();
-    // query()'s bin walk on the binned angles. The k smallest (distance, index) pairs are kept
-    // sorted by insertion: k is small (8) and most candidates fail the first comparison, where
-    // collecting every candidate and partitioning them (nth_element) mispredicted its branches.
-    // Each bin row is walked only across the disc of radius `reach`: at the row's nearest
-    // elevation to the query the disc is 2 sqrt(reach^2 - dy^2) wide (a square walk visits 4/pi
-    // times the samples). Samples outside the disc are farther than reach, and the result stands
-    // only if the k-th distance is within reach, so skipping them changes nothing.
-    const auto [y0, y1] = binSpan(el - reach, el + reach, min_el_, ny_);
-    for (int y = y0; y <= y1; ++y) {
-      const double row_lo = min_el_ + y * bin_, row_hi = row_lo + bin_;
-      const double dy = el < row_lo ? row_lo - el : (el > row_hi ? el - row_hi : 0.0);
-      const double half = std::sqrt(std::max(0.0, reach * reach - dy * dy));
-      const auto [x0, x1] = binSpan(az - half, az + half, min_az_, nx_);
-      if (x0 > x1) continue;
-      const std::size_t row = std::size_t(y) * nx_;
-      for (int b = start_[row + x0]; b < start_[row + x1 + 1]; ++b) {
-        const double da = binned_az_[b] - az, de = binned_el_[b] - el;
-        const std::pair<double, int> candidate(da * da + de * de, order_[b]);
-        if (out.size() == kk) {
-          if (!(candidate < out.back())) continue;
-          out.back() = candidate;
-        } else {
-          out.push_back(candidate);
-        }
-        for (std::size_t i = out.size() - 1; i > 0 && out[i] < out[i - 1]; --i)
-          std::swap(out[i], out[i - 1]);
-      }
-    }
+    collect(az, el, reach, kk, INFINITY, out);
     const bool covers_all = reach > extent;
     if (out.empty() && !covers_all) continue;
     if (out.empty()) return;
     if ((out.size() == kk && out.back().first <= reach * reach) || covers_all) return;
   }
+}
+
+void AngularBins::nearestAfter(double az, double el, int k,
+                               std::vector<std::pair<double, int>>& inout,
+                               double start_reach) const {
+  const auto unseeded = [&] { nearest(az, el, k, inout, start_reach); };
+  if (order_.empty() || k <= 0 || inout.size() != static_cast<std::size_t>(k)) return unseeded();
+  for (const auto& earlier : inout) {
+    if (earlier.second < 0 || static_cast<std::size_t>(earlier.second) >= sample_az_.size()) {
+      return unseeded();
+    }
+  }
+  // The earlier answer's k samples lie within `bound` of (az, el), so the k nearest do too. The
+  // slack covers a different rounding of the same distance (contraction into an FMA may differ
+  // between the two expressions); it only widens the search.
+  double bound = 0.0;
+  for (const auto& earlier : inout) {
+    const double da = sample_az_[earlier.second] - az, de = sample_el_[earlier.second] - el;
+    bound = std::max(bound, da * da + de * de);
+  }
+  bound = bound * (1.0 + 1e-9) + 1e-12;
+  const double reach = std::sqrt(bound) * (1.0 + 1e-9);
+  if (reach > 2.0 * start_reach) return unseeded();
+  collect(az, el, reach, static_cast<std::size_t>(k), bound, inout);
+  // Every sample within `bound` lies inside the disc, so the walk found at least the earlier k.
 }
 
 }  // namespace multimodal_nvs

@@ -121,4 +121,38 @@ TEST(AngularBins, NearestEqualsABruteForceSearch) {
   }
 }
 
+TEST(AngularBins, NearestAfterAnEarlierAnswerEqualsNearest) {
+  std::mt19937 random(11);
+  std::uniform_real_distribution<float> az(-40.0f, 40.0f), el(-15.0f, 5.0f);
+  std::vector<mm::AngularSample> samples(3000);
+  for (auto& s : samples)
+    s = {az(random), el(random), 10.0f};
+  samples.push_back(samples[17]);  // a repeated direction: ties broken by index
+  const mm::AngularBins bins(samples, 0.15);
+  std::uniform_real_distribution<double> step(-0.1, 0.1);
+  for (int k : {1, 3, 8}) {
+    std::vector<std::pair<double, int>> seeded, exact;
+    double qaz = 0.0, qel = -5.0;
+    for (int q = 0; q < 600; ++q) {
+      // Mostly a walk of small steps (pixels of a row), sometimes a far jump, and now and then an
+      // earlier answer that is empty, too short, or from another set of samples (out of range).
+      if (q % 50 == 0) {
+        qaz = 1.2 * az(random);
+        qel = 1.2 * el(random);
+      } else {
+        qaz += step(random);
+        qel += 0.2 * step(random);
+      }
+      if (q % 97 == 0) seeded.clear();
+      if (q % 89 == 0 && !seeded.empty()) seeded.pop_back();
+      if (q % 83 == 0 && !seeded.empty()) seeded.front().second = int(samples.size()) + 5;
+      // The earlier answer is used when its bound is within twice the start reach (8 nearest: ~1.2 deg).
+      const double start_reach = q % 3 ? 3.0 : 0.0;
+      bins.nearestAfter(qaz, qel, k, seeded, start_reach);
+      bins.nearest(qaz, qel, k, exact);
+      ASSERT_EQ(seeded, exact) << "k " << k << " query " << q;
+    }
+  }
+}
+
 }  // namespace

@@ -37,8 +37,21 @@ class AngularBins {
   void nearest(double az, double el, int k, std::vector<std::pair<double, int>>& out,
                double start_reach = 0.0) const;
 
+  /// The same answer as nearest(), for a query next to an earlier one: `inout` holds on entry an
+  /// earlier answer (any indices of these samples; empty is allowed). Their distances to (az, el)
+  /// bound this query's k-th distance, which fixes the search radius and lets the walk skip every
+  /// farther sample without sorting it in: for runs of neighbouring queries (pixels of a row) the
+  /// sorting was most of nearest()'s cost. When that bound exceeds `start_reach` (the earlier
+  /// query was far away) it is nearest(az, el, k, inout, start_reach).
+  void nearestAfter(double az, double el, int k, std::vector<std::pair<double, int>>& inout,
+                    double start_reach) const;
+
  private:
   std::size_t binOf(const AngularSample& s) const;
+  /// One round of the bin walk over the disc of radius `reach`: the k smallest (distance, index)
+  /// pairs among the samples at squared distance <= `bound`, nearest first, into `out`.
+  void collect(double az, double el, double reach, std::size_t k, double bound,
+               std::vector<std::pair<double, int>>& out) const;
   /// The bins [first, last] along one axis (bins of side bin_ from `origin`, `count` of them) that
   /// meet the interval [lo, hi]; first > last when none does.
   std::pair<int, int> binSpan(double lo, double hi, double origin, int count) const {
@@ -54,6 +67,7 @@ class AngularBins {
   // The samples' angles in bin order (order_): nearest() reads them sequentially instead of
   // gathering AngularSample records from all over the scan (a 360-degree LiDAR sweep is megabytes).
   std::vector<float> binned_az_, binned_el_;
+  std::vector<float> sample_az_, sample_el_;  // by sample index (nearestAfter's earlier answer)
 };
 
 }  // namespace multimodal_nvs

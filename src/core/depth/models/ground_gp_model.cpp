@@ -484,11 +484,13 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
           } else {
             j = nearestVertex(t, az, el);
             thread_local std::vector<std::pair<double, int>> nearest;
-            // Edge pixels come in runs along a row: the previous query's k-th distance plus the
-            // step to this pixel bounds this one's (triangle inequality), so one round of the bin
-            // walk mostly suffices; when not (a new row, a far jump), the search widens itself.
+            // Edge pixels come in runs along a row: the previous query's answer bounds this one's
+            // k-th distance (its k samples are at most one pixel step farther), so one round of
+            // the bin walk suffices and it sorts in only the samples within that bound; after a
+            // far jump (a new row) the search starts from the previous k-th distance plus a step
+            // and widens itself.
             thread_local double previous_kth_deg = 0.0;
-            bins.nearest(az, el, g.surface_k, nearest, previous_kth_deg);
+            bins.nearestAfter(az, el, g.surface_k, nearest, previous_kth_deg);
             if (!nearest.empty())
               previous_kth_deg = std::sqrt(nearest.back().first) + kVoteReachStepDeg;
             double support[3] = {0.0, 0.0, 0.0};
