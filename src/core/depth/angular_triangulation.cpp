@@ -8,6 +8,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <utility>
 
@@ -26,6 +27,22 @@ using Delaunay = CGAL::Delaunay_triangulation_2<
     Kernel,
     CGAL::Triangulation_data_structure_2<VertexBase, CGAL::Triangulation_face_base_2<Kernel>>>;
 using DelaunayPoint = Kernel::Point_2;
+
+/// The grid box (inclusive, one pixel of margin, clipped to the grid) of a pixel range. Returns
+/// false when it misses the grid.
+bool pixelRangeToBox(const StrideGrid& grid, double u0, double u1, double v0, double v1,
+                     AngularTriangle& t) {
+  const double s = grid.stride;
+  t.col0 = static_cast<int>(std::max(-1.0, std::floor(u0 / s) - 1));
+  t.col1 = static_cast<int>(std::min<double>(grid.cols(), std::ceil(u1 / s) + 1));
+  t.row0 = static_cast<int>(std::max(-1.0, std::floor(v0 / s) - 1));
+  t.row1 = static_cast<int>(std::min<double>(grid.rows(), std::ceil(v1 / s) + 1));
+  t.col0 = std::max(0, t.col0);
+  t.row0 = std::max(0, t.row0);
+  t.col1 = std::min(grid.cols() - 1, t.col1);
+  t.row1 = std::min(grid.rows() - 1, t.row1);
+  return t.col0 <= t.col1 && t.row0 <= t.row1;
+}
 
 /// Pixel box (grid indices, inclusive, one pixel of margin) that contains the triangle's angular
 /// bounding box. Returns false when it misses the grid.
@@ -73,16 +90,48 @@ bool pixelBox(const PinholeIntrinsics& k, const StrideGrid& grid, double az0, do
     v0 -= grid.stride;
     v1 += grid.stride;
   }
-  const double s = grid.stride;
-  t.col0 = static_cast<int>(std::max(-1.0, std::floor(u0 / s) - 1));
-  t.col1 = static_cast<int>(std::min<double>(grid.cols(), std::ceil(u1 / s) + 1));
-  t.row0 = static_cast<int>(std::max(-1.0, std::floor(v0 / s) - 1));
-  t.row1 = static_cast<int>(std::min<double>(grid.rows(), std::ceil(v1 / s) + 1));
-  t.col0 = std::max(0, t.col0);
-  t.row0 = std::max(0, t.row0);
-  t.col1 = std::min(grid.cols() - 1, t.col1);
-  t.row1 = std::min(grid.rows() - 1, t.row1);
-  return t.col0 <= t.col1 && t.row0 <= t.row1;
+  return pixelRangeToBox(grid, u0, u1, v0, v1, t);
+}
+
+/// The pinhole projection's terms of one sample (radians of its float32 angles), computed once per
+/// sample instead of once per triangle corner: with several triangles per sample and eight
+/// projections per box, tan and cos were a fifth of the serial triangulation stage.
+struct PinholeTerms {
+  double tan_az, cos_az, tan_el;
+};
+
+PinholeTerms pinholeTerms(const AngularSample& s) {
+  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+  const double az = double(s.azimuth_deg) * kDegToRad, el = double(s.elevation_deg) * kDegToRad;
+  return {std::tan(az), std::cos(az), std::tan(el)};
+}
+
+/// pixelBox() for an undistorted camera from the vertices' precomputed terms: the same arithmetic
+/// as angularToPixel at the same angles (the box's ends are vertex angles, and its axis crossing
+/// has tan 0 and cos 1 exactly), so the same box.
+bool pinholePixelBox(const PinholeIntrinsics& k, const StrideGrid& grid,
+                     const PinholeTerms* const p[3], AngularTriangle& t) {
+  int a0 = 0, a1 = 0, e0 = 0, e1 = 0;  // the vertices of the extreme angles
+  for (int j = 1; j < 3; ++j) {
+    if (t.az[j] < t.az[a0]) a0 = j;
+    if (t.az[j] > t.az[a1]) a1 = j;
+    if (t.el[j] < t.el[e0]) e0 = j;
+    if (t.el[j] > t.el[e1]) e1 = j;
+  }
+  const double u0 = k.cx + k.fx * p[a0]->tan_az;
+  const double u1 = k.cx + k.fx * p[a1]->tan_az;
+  // The az candidates of pixelBox: both ends and min(max(0, az0), az1).
+  const double crossing_cos = t.az[a0] >= 0.0 ? p[a0]->cos_az : t.az[a1] <= 0.0 ? p[a1]->cos_az : 1.0;
+  const double cosines[3] = {p[a0]->cos_az, p[a1]->cos_az, crossing_cos};
+  double v0 = std::numeric_limits<double>::infinity(), v1 = -v0;
+  for (double c : cosines) {
+    for (double tan_el : {p[e0]->tan_el, p[e1]->tan_el}) {
+      const double v = k.cy - k.fy * tan_el / c;
+      v0 = std::min(v0, v);
+      v1 = std::max(v1, v);
+    }
+  }
+  return pixelRangeToBox(grid, u0, u1, v0, v1, t);
 }
 
 }  // namespace
@@ -139,20 +188,44 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
   std::vector<AngularTriangle> triangles;
   triangles.reserve(2 * vertices.size());
   const PinholeIntrinsics& k = angles.intrinsics();
+  // pixelBox() clamps angles beyond this; such a sample takes the general path.
+  constexpr float kPinholeTermsLimitDeg = 89.9f;
+  std::vector<PinholeTerms> terms;
+  std::vector<std::uint8_t> has_terms;
+  if (!k.distortion.any()) {
+    terms.resize(samples.size());
+    has_terms.resize(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      has_terms[i] = std::abs(samples[i].azimuth_deg) <= kPinholeTermsLimitDeg &&
+                     std::abs(samples[i].elevation_deg) <= kPinholeTermsLimitDeg;
+      if (has_terms[i]) terms[i] = pinholeTerms(samples[i]);
+    }
+  }
   for (auto face = delaunay.finite_faces_begin(); face != delaunay.finite_faces_end(); ++face) {
     if (face->vertex(0)->info() == kVirtual || face->vertex(1)->info() == kVirtual ||
         face->vertex(2)->info() == kVirtual) {
       continue;
     }
     AngularTriangle t;
+    const PinholeTerms* vertex_terms[3] = {nullptr, nullptr, nullptr};
+    bool precomputed = !terms.empty();
     for (int j = 0; j < 3; ++j) {
-      const AngularSample& s = samples[face->vertex(j)->info()];
+      const int index = face->vertex(j)->info();
+      const AngularSample& s = samples[index];
       t.az[j] = s.azimuth_deg;
       t.el[j] = s.elevation_deg;
       t.z[j] = s.depth;
+      if (precomputed) {
+        precomputed = has_terms[index] != 0;
+        vertex_terms[j] = &terms[index];
+      }
     }
     t.det = (t.az[1] - t.az[0]) * (t.el[2] - t.el[0]) - (t.az[2] - t.az[0]) * (t.el[1] - t.el[0]);
     if (!(std::abs(t.det) > 1e-12)) continue;  // degenerate (collinear) triangle
+    if (precomputed) {
+      if (pinholePixelBox(k, grid, vertex_terms, t)) triangles.push_back(t);
+      continue;
+    }
     const double taz0 = std::min({t.az[0], t.az[1], t.az[2]});
     const double taz1 = std::max({t.az[0], t.az[1], t.az[2]});
     const double tel0 = std::min({t.el[0], t.el[1], t.el[2]});
