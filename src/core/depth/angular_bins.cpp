@@ -88,8 +88,10 @@ void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<dou
   const double extent = std::max({max_az_ - min_az_, max_el_ - min_el_, bin_}) +
                         std::abs(az - min_az_) + std::abs(el - min_el_);
   for (double reach = std::max(bin_, start_reach);; reach *= 2.0) {
-    collect(az, el, reach, kk, INFINITY, out);
     const bool covers_all = reach > extent;
+    // The answer stands only if the k-th distance is within reach, so nothing beyond reach needs
+    // sorting in (the bins of the walk hold such samples too); the last round keeps everything.
+    collect(az, el, reach, kk, covers_all ? INFINITY : reach * reach, out);
     if (out.empty() && !covers_all) continue;
     if (out.empty()) return;
     if ((out.size() == kk && out.back().first <= reach * reach) || covers_all) return;
