@@ -156,40 +156,90 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
       },
       4);
 
-  const int cols = angles.grid().cols();
+  const int rows = angles.grid().rows(), cols = angles.grid().cols();
   const float prior_mean = static_cast<float>(prior.constant);
   const float prior_variance = static_cast<float>(gp.priorVariance());
-  pool.parallelFor(
-      angles.grid().rows(),
-      [&](long long row_index, int) {
-        const int row = static_cast<int>(row_index);
-        const float* az = angles.azimuthRow(row);
-        const float* el = angles.elevationRow(row);
-        float* mean_row = out.mean.data() + std::size_t(row) * cols;
-        float* variance_row = out.variance.data() + std::size_t(row) * cols;
-        int filled_to = 0;  // pixels before this column are written
-        const auto fill_prior = [&](int end) {
-          std::fill(mean_row + filled_to, mean_row + end, prior_mean);
-          std::fill(variance_row + filled_to, variance_row + end, prior_variance);
-          filled_to = end;
-        };
-        for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
-          const NeighbourSegment& seg = sets.segments()[k];
-          if (!solved[seg.set_id]) continue;  // its pixels keep the prior
-          fill_prior(seg.col_begin);
-          const std::size_t member = member_offset[seg.set_id];
-          predictFromFactor(factors.data() + factor_offset[seg.set_id], betas.data() + member,
-                            member_az.data() + member, member_el.data() + member,
-                            sets.setSize(seg.set_id), length_scales[seg.set_id], gp,
-                            az + seg.col_begin, el + seg.col_begin, seg.col_end - seg.col_begin,
-                            prior.constant, mean_row + seg.col_begin,
-                            variance_row + seg.col_begin, precision);
-          filled_to = seg.col_end;
+  // Rows go in bands, and each set's segments in a band in one call: a set reaches a few
+  // neighbouring rows with one ~15-pixel segment each, and one call per segment left most SIMD
+  // lanes of its blocks empty and paid the set-up per segment.
+  constexpr int kBandRows = 4;
+  struct BandScratch {
+    std::vector<int> group_of, stamp;    // per set: its group in the current band
+    std::vector<int> group_set, group_start;
+    std::vector<const NeighbourSegment*> segments;  // the band's solved segments, then by group
+    std::vector<int> segment_group;
+    std::vector<PixelRun> runs;
+  };
+  std::vector<BandScratch> scratch_bands(pool.size());
+  const long long bands = (rows + kBandRows - 1) / kBandRows;
+  pool.parallelFor(bands, [&](long long band_index, int worker) {
+    const int r0 = static_cast<int>(band_index) * kBandRows;
+    const int r1 = std::min(rows, r0 + kBandRows);
+    BandScratch& b = scratch_bands[worker];
+    if (b.stamp.empty()) {
+      b.stamp.assign(set_count, -1);
+      b.group_of.resize(set_count);
+    }
+    b.segments.clear();
+    b.segment_group.clear();
+    b.group_set.clear();
+    // The prior wherever no solved set reaches; the solved segments, grouped by set.
+    for (int row = r0; row < r1; ++row) {
+      float* mean_row = out.mean.data() + std::size_t(row) * cols;
+      float* variance_row = out.variance.data() + std::size_t(row) * cols;
+      int filled_to = 0;  // pixels before this column are written or in a solved segment
+      const auto fill_prior = [&](int end) {
+        std::fill(mean_row + filled_to, mean_row + end, prior_mean);
+        std::fill(variance_row + filled_to, variance_row + end, prior_variance);
+        filled_to = end;
+      };
+      for (std::size_t k = sets.rowBegin(row); k < sets.rowBegin(row + 1); ++k) {
+        const NeighbourSegment& seg = sets.segments()[k];
+        if (!solved[seg.set_id]) continue;  // its pixels keep the prior
+        fill_prior(seg.col_begin);
+        filled_to = seg.col_end;
+        if (b.stamp[seg.set_id] != static_cast<int>(band_index)) {
+          b.stamp[seg.set_id] = static_cast<int>(band_index);
+          b.group_of[seg.set_id] = static_cast<int>(b.group_set.size());
+          b.group_set.push_back(seg.set_id);
         }
-        fill_prior(cols);
-        if (finish_row) finish_row(row);
-      },
-      4);
+        b.segments.push_back(&seg);
+        b.segment_group.push_back(b.group_of[seg.set_id]);
+      }
+      fill_prior(cols);
+    }
+    // Counting sort of the segments by group, then one call per group.
+    const int groups = static_cast<int>(b.group_set.size());
+    b.group_start.assign(groups + 1, 0);
+    for (int g : b.segment_group)
+      ++b.group_start[g + 1];
+    for (int g = 0; g < groups; ++g)
+      b.group_start[g + 1] += b.group_start[g];
+    b.runs.resize(b.segments.size());
+    std::vector<int>& next = b.group_of;  // reused as the fill cursor of each group's set
+    for (int g = 0; g < groups; ++g)
+      next[b.group_set[g]] = b.group_start[g];
+    for (std::size_t k = 0; k < b.segments.size(); ++k) {
+      const NeighbourSegment& seg = *b.segments[k];
+      const std::size_t pixel = std::size_t(seg.row) * cols + seg.col_begin;
+      b.runs[next[seg.set_id]++] = {angles.azimuthRow(seg.row) + seg.col_begin,
+                                    angles.elevationRow(seg.row) + seg.col_begin,
+                                    out.mean.data() + pixel, out.variance.data() + pixel,
+                                    seg.col_end - seg.col_begin};
+    }
+    for (int g = 0; g < groups; ++g) {
+      const int set = b.group_set[g];
+      const std::size_t member = member_offset[set];
+      predictFromFactor(factors.data() + factor_offset[set], betas.data() + member,
+                        member_az.data() + member, member_el.data() + member, sets.setSize(set),
+                        length_scales[set], gp, b.runs.data() + b.group_start[g],
+                        b.group_start[g + 1] - b.group_start[g], prior.constant, precision);
+    }
+    if (finish_row) {
+      for (int row = r0; row < r1; ++row)
+        finish_row(row);
+    }
+  });
 }
 
 }  // namespace multimodal_nvs

@@ -1,6 +1,7 @@
-// The single-precision per-pixel step (ground_gp's residual GP) against the double one: random
-// sets of 1 to 12 returns within the 2 degree radius, ground_gp's residual amplitude and the
-// package's noise, pixels across and beyond the set, blocks longer than one stack block.
+// The per-pixel step: single precision (ground_gp's residual GP) against double on random sets of 1
+// to 12 returns within the 2 degree radius (ground_gp's residual amplitude, the package's noise,
+// pixels across and beyond the set, blocks longer than one stack block), and several runs of
+// pixels in one call against one call per run.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -62,6 +63,65 @@ TEST(GpPredictionPrecision, SingleAgreesWithDoubleToFloatRounding) {
     }
   }
   EXPECT_EQ(compared, 12 * 20 * 150);
+}
+
+// Several runs in one call (a set's segments in a band of rows) give every pixel exactly what one
+// call per run gives: runs of 0 to 70 pixels, so that blocks span several runs and runs span
+// blocks, in both precisions and for fixed and general set sizes.
+TEST(GpPredictionPrecision, RunsInOneCallEqualOneCallPerRun) {
+  mm::DepthCompletionParams params;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> angle(-2.0f, 2.0f);
+  std::uniform_real_distribution<double> depth(5.0, 40.0);
+  std::uniform_int_distribution<int> run_length(0, 70);
+  mm::LocalGp gp(params.gp);
+  int compared = 0;
+  for (int n : {1, 3, 6, 9}) {
+    std::vector<float> az(n), el(n);
+    std::vector<double> y(n);
+    for (int i = 0; i < n; ++i) {
+      az[i] = angle(rng);
+      el[i] = angle(rng);
+      y[i] = depth(rng) - 20.0;
+    }
+    gp.setData(az.data(), el.data(), y.data(), n);
+    const double l = gp.searchLengthScale();
+    std::vector<double> factor, beta;
+    ASSERT_TRUE(gp.posterior(l, factor, beta));
+    for (auto precision : {mm::PredictionPrecision::kDouble, mm::PredictionPrecision::kSingle}) {
+      std::vector<int> lengths(9);
+      int pixels = 0;
+      for (int& length : lengths) {
+        length = run_length(rng);
+        pixels += length;
+      }
+      std::vector<float> paz(pixels), pel(pixels);
+      for (int p = 0; p < pixels; ++p) {
+        paz[p] = 1.5f * angle(rng);
+        pel[p] = 1.5f * angle(rng);
+      }
+      std::vector<float> mean_runs(pixels, -1.0f), var_runs(pixels, -1.0f);
+      std::vector<float> mean_each(pixels, -2.0f), var_each(pixels, -2.0f);
+      std::vector<mm::PixelRun> runs;
+      int start = 0;
+      for (int length : lengths) {
+        runs.push_back({paz.data() + start, pel.data() + start, mean_runs.data() + start,
+                        var_runs.data() + start, length});
+        mm::predictFromFactor(factor.data(), beta.data(), az.data(), el.data(), n, l, params.gp,
+                              paz.data() + start, pel.data() + start, length, 20.0,
+                              mean_each.data() + start, var_each.data() + start, precision);
+        start += length;
+      }
+      mm::predictFromFactor(factor.data(), beta.data(), az.data(), el.data(), n, l, params.gp,
+                            runs.data(), static_cast<int>(runs.size()), 20.0, precision);
+      for (int p = 0; p < pixels; ++p) {
+        ASSERT_EQ(mean_runs[p], mean_each[p]) << "n " << n << " pixel " << p;
+        ASSERT_EQ(var_runs[p], var_each[p]) << "n " << n << " pixel " << p;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(compared, 100);
 }
 
 }  // namespace

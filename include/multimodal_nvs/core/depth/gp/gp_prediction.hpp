@@ -18,4 +18,20 @@ void predictFromFactor(const double* packed_factor, const double* beta, const fl
                        int pixels, double shift, float* mean_out, float* var_out,
                        PredictionPrecision precision = PredictionPrecision::kDouble);
 
+/// Pixels [0, count) of one run: their angles in, their mean and variance out.
+struct PixelRun {
+  const float* az;
+  const float* el;
+  float* mean;
+  float* variance;
+  int count;
+};
+
+/// The same step for the pixels of several runs (one set's segments in several rows): the
+/// SIMD blocks span the runs, so short segments share their set-up.
+void predictFromFactor(const double* packed_factor, const double* beta, const float* azimuth,
+                       const float* elevation, int n, double length_scale,
+                       const LocalGpParams& params, const PixelRun* runs, int run_count,
+                       double shift, PredictionPrecision precision = PredictionPrecision::kDouble);
+
 }  // namespace multimodal_nvs
