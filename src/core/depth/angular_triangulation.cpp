@@ -121,7 +121,9 @@ bool pinholePixelBox(const PinholeIntrinsics& k, const StrideGrid& grid,
   const double u0 = k.cx + k.fx * p[a0]->tan_az;
   const double u1 = k.cx + k.fx * p[a1]->tan_az;
   // The az candidates of pixelBox: both ends and min(max(0, az0), az1).
-  const double crossing_cos = t.az[a0] >= 0.0 ? p[a0]->cos_az : t.az[a1] <= 0.0 ? p[a1]->cos_az : 1.0;
+  const double crossing_cos = t.az[a0] >= 0.0   ? p[a0]->cos_az
+                              : t.az[a1] <= 0.0 ? p[a1]->cos_az
+                                                : 1.0;
   const double cosines[3] = {p[a0]->cos_az, p[a1]->cos_az, crossing_cos};
   double v0 = std::numeric_limits<double>::infinity(), v1 = -v0;
   for (double c : cosines) {

@@ -94,13 +94,24 @@ TEST(AngularTriangulation, FewerThanThreeSamplesGiveNoTriangle) {
   EXPECT_TRUE(mm::triangulateSamples({{0.0f, 0.0f, 5.0f}, {1.0f, 0.0f, 5.0f}}, angles).empty());
 }
 
-TEST(AngularBins, NearestEqualsABruteForceSearch) {
-  std::mt19937 random(7);
-  std::uniform_real_distribution<float> az(-40.0f, 40.0f), el(-15.0f, 5.0f);
+// 3,000 random directions over 80 x 20 deg, plus one repeated direction (ties broken by index).
+const std::uniform_real_distribution<float> kRandomAzimuth(-40.0f, 40.0f);
+const std::uniform_real_distribution<float> kRandomElevation(-15.0f, 5.0f);
+std::vector<mm::AngularSample> randomSamples(std::mt19937& random) {
+  auto az = kRandomAzimuth;
+  auto el = kRandomElevation;
   std::vector<mm::AngularSample> samples(3000);
   for (auto& s : samples)
     s = {az(random), el(random), 10.0f};
-  samples.push_back(samples[17]);  // a repeated direction: ties broken by index
+  samples.push_back(samples[17]);
+  return samples;
+}
+
+TEST(AngularBins, NearestEqualsABruteForceSearch) {
+  std::mt19937 random(7);
+  auto az = kRandomAzimuth;
+  auto el = kRandomElevation;
+  const std::vector<mm::AngularSample> samples = randomSamples(random);
   for (double bin : {0.15, 0.5, 3.0}) {
     const mm::AngularBins bins(samples, bin);
     std::vector<std::pair<double, int>> found;
@@ -123,11 +134,9 @@ TEST(AngularBins, NearestEqualsABruteForceSearch) {
 
 TEST(AngularBins, NearestAfterAnEarlierAnswerEqualsNearest) {
   std::mt19937 random(11);
-  std::uniform_real_distribution<float> az(-40.0f, 40.0f), el(-15.0f, 5.0f);
-  std::vector<mm::AngularSample> samples(3000);
-  for (auto& s : samples)
-    s = {az(random), el(random), 10.0f};
-  samples.push_back(samples[17]);  // a repeated direction: ties broken by index
+  auto az = kRandomAzimuth;
+  auto el = kRandomElevation;
+  const std::vector<mm::AngularSample> samples = randomSamples(random);
   const mm::AngularBins bins(samples, 0.15);
   std::uniform_real_distribution<double> step(-0.1, 0.1);
   for (int k : {1, 3, 8}) {
@@ -146,7 +155,8 @@ TEST(AngularBins, NearestAfterAnEarlierAnswerEqualsNearest) {
       if (q % 97 == 0) seeded.clear();
       if (q % 89 == 0 && !seeded.empty()) seeded.pop_back();
       if (q % 83 == 0 && !seeded.empty()) seeded.front().second = int(samples.size()) + 5;
-      // The earlier answer is used when its bound is within twice the start reach (8 nearest: ~1.2 deg).
+      // The earlier answer is used when its bound is within twice the start reach (8 nearest: ~1.2
+      // deg).
       const double start_reach = q % 3 ? 3.0 : 0.0;
       bins.nearestAfter(qaz, qel, k, seeded, start_reach);
       bins.nearest(qaz, qel, k, exact);

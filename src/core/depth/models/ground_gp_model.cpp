@@ -181,7 +181,8 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
   } else {
     fillPredictions(angles, 0.0f, 0.0f, pool, out);
   }
-  pool.parallelFor(rows, [&](long long r, int) { finish_row(r); }, 16);
+  pool.parallelFor(
+      rows, [&](long long r, int) { finish_row(r); }, 16);
 }
 
 // ---------------------------------------------------------------------------------------------

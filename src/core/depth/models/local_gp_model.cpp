@@ -164,11 +164,10 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
   // lanes of its blocks empty and paid the set-up per segment.
   constexpr int kBandRows = 4;
   struct BandScratch {
-    std::vector<int> group_of, stamp;    // per set: its group in the current band
-    std::vector<int> group_set, group_start;
-    std::vector<const NeighbourSegment*> segments;  // the band's solved segments, then by group
-    std::vector<int> segment_group;
-    std::vector<PixelRun> runs;
+    std::vector<int> group_of, stamp;  // per set: its group, valid where stamp = the band
+    std::vector<int> group_set, group_start, cursor;  // per group: its set, its first run
+    std::vector<const NeighbourSegment*> segments;    // the band's solved segments
+    std::vector<PixelRun> runs;                       // the segments' pixels, by group
   };
   std::vector<BandScratch> scratch_bands(pool.size());
   const long long bands = (rows + kBandRows - 1) / kBandRows;
@@ -181,7 +180,6 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
       b.group_of.resize(set_count);
     }
     b.segments.clear();
-    b.segment_group.clear();
     b.group_set.clear();
     // The prior wherever no solved set reaches; the solved segments, grouped by set.
     for (int row = r0; row < r1; ++row) {
@@ -204,28 +202,24 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
           b.group_set.push_back(seg.set_id);
         }
         b.segments.push_back(&seg);
-        b.segment_group.push_back(b.group_of[seg.set_id]);
       }
       fill_prior(cols);
     }
     // Counting sort of the segments by group, then one call per group.
     const int groups = static_cast<int>(b.group_set.size());
     b.group_start.assign(groups + 1, 0);
-    for (int g : b.segment_group)
-      ++b.group_start[g + 1];
+    for (const NeighbourSegment* seg : b.segments)
+      ++b.group_start[b.group_of[seg->set_id] + 1];
     for (int g = 0; g < groups; ++g)
       b.group_start[g + 1] += b.group_start[g];
+    b.cursor.assign(b.group_start.begin(), b.group_start.end() - 1);
     b.runs.resize(b.segments.size());
-    std::vector<int>& next = b.group_of;  // reused as the fill cursor of each group's set
-    for (int g = 0; g < groups; ++g)
-      next[b.group_set[g]] = b.group_start[g];
-    for (std::size_t k = 0; k < b.segments.size(); ++k) {
-      const NeighbourSegment& seg = *b.segments[k];
+    for (const NeighbourSegment* segment : b.segments) {
+      const NeighbourSegment& seg = *segment;
       const std::size_t pixel = std::size_t(seg.row) * cols + seg.col_begin;
-      b.runs[next[seg.set_id]++] = {angles.azimuthRow(seg.row) + seg.col_begin,
-                                    angles.elevationRow(seg.row) + seg.col_begin,
-                                    out.mean.data() + pixel, out.variance.data() + pixel,
-                                    seg.col_end - seg.col_begin};
+      b.runs[b.cursor[b.group_of[seg.set_id]]++] = {
+          angles.azimuthRow(seg.row) + seg.col_begin, angles.elevationRow(seg.row) + seg.col_begin,
+          out.mean.data() + pixel, out.variance.data() + pixel, seg.col_end - seg.col_begin};
     }
     for (int g = 0; g < groups; ++g) {
       const int set = b.group_set[g];

@@ -27,9 +27,9 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
 /// The same GP on explicit targets (sample depth minus the prior at the sample) around a prior
 /// mean: mean = prior + k*^T K^-1 y. With a constant prior c and targets z - c it is the model
 /// above. `precision`: of the per-pixel step only (the sets' searches and factors stay double).
-/// `finish_row(row)`, when given, runs on the worker right after the row's pixels are written, while
-/// they are still in cache: a caller's per-pixel pass over the GP's output (ground_gp adds its prior
-/// there) then costs no second trip through memory.
+/// `finish_row(row)`, when given, runs on the worker right after the row's pixels are written,
+/// while they are still in cache: a caller's per-pixel pass over the GP's output (ground_gp adds
+/// its prior there) then costs no second trip through memory.
 void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
                     const PixelAngleGrid& angles, const NeighbourSets& sets,
                     const DepthCompletionParams& params, const PriorMean& prior, ThreadPool& pool,
