@@ -118,6 +118,9 @@ void AngularBins::nearestAfter(double az, double el, int k,
   }
   bound = bound * (1.0 + 1e-9) + 1e-12;
   const double reach = std::sqrt(bound) * (1.0 + 1e-9);
+  // Far beyond the start reach the earlier answer was for a distant query (a new row): a disc that
+  // wide holds many samples, and the doubling search from start_reach is cheaper. Within twice it
+  // (a vote reused for a few pixels puts the last query several pixels back) the bound wins.
   if (reach > 2.0 * start_reach) return unseeded();
   collect(az, el, reach, static_cast<std::size_t>(k), bound, inout);
   // Every sample within `bound` lies inside the disc, so the walk found at least the earlier k.

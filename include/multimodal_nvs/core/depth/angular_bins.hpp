@@ -41,8 +41,8 @@ class AngularBins {
   /// earlier answer (any indices of these samples; empty is allowed). Their distances to (az, el)
   /// bound this query's k-th distance, which fixes the search radius and lets the walk skip every
   /// farther sample without sorting it in: for runs of neighbouring queries (pixels of a row) the
-  /// sorting was most of nearest()'s cost. When that bound exceeds `start_reach` (the earlier
-  /// query was far away) it is nearest(az, el, k, inout, start_reach).
+  /// sorting was most of nearest()'s cost. When that bound exceeds twice `start_reach` (the
+  /// earlier query was far away) it is nearest(az, el, k, inout, start_reach).
   void nearestAfter(double az, double el, int k, std::vector<std::pair<double, int>>& inout,
                     double start_reach) const;
 
