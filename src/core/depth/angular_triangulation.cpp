@@ -190,16 +190,17 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
   std::vector<AngularTriangle> triangles;
   triangles.reserve(2 * vertices.size());
   const PinholeIntrinsics& k = angles.intrinsics();
-  // pixelBox() clamps angles beyond this; such a sample takes the general path.
-  constexpr float kPinholeTermsLimitDeg = 89.9f;
+  // pixelBox() clamps angles beyond 89.9 deg (and 89.9f rounds above that double); a sample
+  // nearer than a degree to the clamp takes the general path.
+  constexpr float kPinholeTermsLimitDeg = 89.0f;
   std::vector<PinholeTerms> terms;
   std::vector<std::uint8_t> has_terms;
   if (!k.distortion.any()) {
     terms.resize(samples.size());
     has_terms.resize(samples.size());
     for (std::size_t i = 0; i < samples.size(); ++i) {
-      has_terms[i] = std::abs(samples[i].azimuth_deg) <= kPinholeTermsLimitDeg &&
-                     std::abs(samples[i].elevation_deg) <= kPinholeTermsLimitDeg;
+      has_terms[i] = std::abs(samples[i].azimuth_deg) < kPinholeTermsLimitDeg &&
+                     std::abs(samples[i].elevation_deg) < kPinholeTermsLimitDeg;
       if (has_terms[i]) terms[i] = pinholeTerms(samples[i]);
     }
   }
