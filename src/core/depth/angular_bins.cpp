@@ -103,16 +103,14 @@ void AngularBins::nearestAfter(double az, double el, int k,
                                double start_reach) const {
   const auto unseeded = [&] { nearest(az, el, k, inout, start_reach); };
   if (order_.empty() || k <= 0 || inout.size() != static_cast<std::size_t>(k)) return unseeded();
-  for (const auto& earlier : inout) {
-    if (earlier.second < 0 || static_cast<std::size_t>(earlier.second) >= sample_az_.size()) {
-      return unseeded();
-    }
-  }
   // The earlier answer's k samples lie within `bound` of (az, el), so the k nearest do too. The
   // slack covers a different rounding of the same distance (contraction into an FMA may differ
   // between the two expressions); it only widens the search.
   double bound = 0.0;
   for (const auto& earlier : inout) {
+    if (earlier.second < 0 || static_cast<std::size_t>(earlier.second) >= sample_az_.size()) {
+      return unseeded();  // not an answer over these samples
+    }
     const double da = sample_az_[earlier.second] - az, de = sample_el_[earlier.second] - el;
     bound = std::max(bound, da * da + de * de);
   }

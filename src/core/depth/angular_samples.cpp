@@ -113,8 +113,8 @@ bool angularToPixel(const PinholeIntrinsics& k, double azimuth_deg, double eleva
     *v = k.cy + k.fy * yd;
     return true;
   }
-  *u = k.cx + k.fx * std::tan(az);
-  *v = k.cy - k.fy * std::tan(el) / std::cos(az);
+  *u = pinholeColumn(k, std::tan(az));
+  *v = pinholeRow(k, std::tan(el), std::cos(az));
   return true;
 }
 

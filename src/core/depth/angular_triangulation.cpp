@@ -118,8 +118,8 @@ bool pinholePixelBox(const PinholeIntrinsics& k, const StrideGrid& grid,
     if (t.el[j] < t.el[e0]) e0 = j;
     if (t.el[j] > t.el[e1]) e1 = j;
   }
-  const double u0 = k.cx + k.fx * p[a0]->tan_az;
-  const double u1 = k.cx + k.fx * p[a1]->tan_az;
+  const double u0 = pinholeColumn(k, p[a0]->tan_az);
+  const double u1 = pinholeColumn(k, p[a1]->tan_az);
   // The az candidates of pixelBox: both ends and min(max(0, az0), az1).
   const double crossing_cos = t.az[a0] >= 0.0   ? p[a0]->cos_az
                               : t.az[a1] <= 0.0 ? p[a1]->cos_az
@@ -128,7 +128,7 @@ bool pinholePixelBox(const PinholeIntrinsics& k, const StrideGrid& grid,
   double v0 = std::numeric_limits<double>::infinity(), v1 = -v0;
   for (double c : cosines) {
     for (double tan_el : {p[e0]->tan_el, p[e1]->tan_el}) {
-      const double v = k.cy - k.fy * tan_el / c;
+      const double v = pinholeRow(k, tan_el, c);
       v0 = std::min(v0, v);
       v1 = std::max(v1, v);
     }

@@ -49,4 +49,14 @@ std::vector<AngularSample> usableSamples(const std::vector<AngularSample>& sampl
 bool angularToPixel(const PinholeIntrinsics& k, double azimuth_deg, double elevation_deg, double* u,
                     double* v);
 
+/// The undistorted arithmetic of angularToPixel from the angles' tangents and cosine (radians),
+/// for callers that reuse those terms across many projections (the triangulation's pixel boxes);
+/// angularToPixel computes through these, so both give the same bits.
+inline double pinholeColumn(const PinholeIntrinsics& k, double tan_az) {
+  return k.cx + k.fx * tan_az;
+}
+inline double pinholeRow(const PinholeIntrinsics& k, double tan_el, double cos_az) {
+  return k.cy - k.fy * tan_el / cos_az;
+}
+
 }  // namespace multimodal_nvs
