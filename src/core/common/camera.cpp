@@ -122,7 +122,10 @@ bool LensDistortion::distort(double x, double y, double* xd, double* yd) const {
   }
   if (!(x * x + y * y <= monotone_radius * monotone_radius)) return false;
   applyDistortion(coefficients, x, y, xd, yd);
-  return true;
+  // A lens whose radial terms never fold has no finite radius, but the polynomial still overflows
+  // far out (r^4 = inf, and 0 * inf = NaN for an unused term): such a direction is outside what
+  // the model describes, not a pixel.
+  return std::isfinite(*xd) && std::isfinite(*yd);
 }
 
 Eigen::Matrix3d PinholeIntrinsics::matrix() const {

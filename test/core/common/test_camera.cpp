@@ -121,6 +121,21 @@ TEST(PinholeIntrinsics, ProjectionRefusesRaysPastTheFold) {
   EXPECT_FALSE(k.project(3.0, 0.0, 1.0, &u, &v));
 }
 
+// A lens that never folds (no finite radius) still overflows far out: a camera_info whose
+// principal point was ~1e96 (found by fuzz_camera_info) put its image corners' rays at ~1e92, where
+// r^4 is infinite and an unused coefficient times it is NaN. Such a direction is refused.
+TEST(LensDistortion, RefusesDirectionsWhereThePolynomialOverflows) {
+  const LensDistortion lens =
+      LensDistortion::fromRos("plumb_bob", {-0.108145, 0.138668, -0.0037976, -0.0048413, 0.0}, "p");
+  ASSERT_FALSE(std::isfinite(lens.monotone_radius));
+  double xd = 0, yd = 0;
+  EXPECT_TRUE(lens.distort(0.3, -0.2, &xd, &yd));
+  EXPECT_FALSE(lens.distort(-4.5e92, -2.7e-1, &xd, &yd));
+  const mm::PinholeIntrinsics k(2109.75, 2071.72, 9.4e95, 576.237, lens);
+  double u = 0, v = 0;
+  EXPECT_FALSE(k.project(-4.5e92, -0.27, 1.0, &u, &v));
+}
+
 TEST(LensDistortion, MonotoneRadiusHoldsInEveryDirectionAndIsTight) {
   // Tangential terms make the fold direction dependent; the radius must hold in all of them (here
   // 3600, many between any fixed sample of directions) and be reached in the worst one.

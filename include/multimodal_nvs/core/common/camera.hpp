@@ -32,7 +32,8 @@ struct LensDistortion {
   int coefficientCount() const;
   /// ROS's name of the model ("" for none).
   std::string rosName() const;
-  /// Undistorted normalised (x, y) -> distorted normalised; false beyond `monotone_radius`.
+  /// Undistorted normalised (x, y) -> distorted normalised; false beyond `monotone_radius` or
+  /// where the polynomial overflows.
   bool distort(double x, double y, double* xd, double* yd) const;
   bool operator==(const LensDistortion& o) const {
     return model == o.model && coefficients == o.coefficients;
