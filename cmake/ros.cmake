@@ -8,12 +8,14 @@ target_include_directories(multimodal_nvs_ros PUBLIC ${MMNVS_GENERATED_INCLUDE_D
 target_include_directories(multimodal_nvs_ros SYSTEM PUBLIC ${catkin_INCLUDE_DIRS})
 target_link_libraries(multimodal_nvs_ros PUBLIC multimodal_nvs_core ${catkin_LIBRARIES})
 add_dependencies(multimodal_nvs_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
+mmnvs_local_template_symbols(multimodal_nvs_ros)
 
 # Every nodelet of the package goes into one plugin library; its name is the path in
 # nodelet_plugins.xml (lib/libmultimodal_nvs_nodelets).
 file(GLOB MMNVS_NODELET_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/src/nodelets/*.cpp)
 add_library(multimodal_nvs_nodelets ${MMNVS_NODELET_SOURCES})
 target_link_libraries(multimodal_nvs_nodelets PUBLIC multimodal_nvs_ros)
+mmnvs_local_template_symbols(multimodal_nvs_nodelets)
 add_dependencies(multimodal_nvs_nodelets
   ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 
