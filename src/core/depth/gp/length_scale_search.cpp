@@ -6,16 +6,17 @@
 
 namespace multimodal_nvs {
 namespace {
-constexpr int L = LengthScaleSearch::kLanes;
 constexpr double kLog2Pi = 1.8378770664093454835606594728112;
 }  // namespace
 
-void LengthScaleSearch::load(int n, int lanes, const float* const* az, const float* const* el,
-                             const double* const* y) {
+template <typename Scalar>
+void BasicLengthScaleSearch<Scalar>::load(int n, int lanes, const float* const* az,
+                                          const float* const* el, const double* const* y) {
+  constexpr int L = kLanes;
   n_ = n;
   const std::size_t packed = std::size_t(n) * (n + 1) / 2;
-  sq_dist_.assign(packed * L, 0.0);
-  y_.assign(std::size_t(n) * L, 0.0);
+  sq_dist_.assign(packed * L, Scalar(0));
+  y_.assign(std::size_t(n) * L, Scalar(0));
   k_.resize(packed * L);
   z_.resize(std::size_t(n) * L);
   // Unused lanes repeat lane 0, so they stay numerically harmless.
@@ -27,39 +28,42 @@ void LengthScaleSearch::load(int n, int lanes, const float* const* az, const flo
       for (int j = 0; j <= i; ++j, ++k) {
         const double da = azi - double(az[s][j]);
         const double de = eli - double(el[s][j]);
-        sq_dist_[k * L + lane] = da * da + de * de;
+        sq_dist_[k * L + lane] = static_cast<Scalar>(da * da + de * de);
       }
-      y_[std::size_t(i) * L + lane] = y[s][i];
+      y_[std::size_t(i) * L + lane] = static_cast<Scalar>(y[s][i]);
     }
   }
 }
 
-void LengthScaleSearch::negLogMarginalLikelihood(const double* length_scale, double* out) {
+template <typename Scalar>
+void BasicLengthScaleSearch<Scalar>::negLogMarginalLikelihood(const double* length_scale,
+                                                              double* out) {
+  constexpr int L = kLanes;
   const int n = n_;
   const std::size_t packed = std::size_t(n) * (n + 1) / 2;
-  const double a2 = params_.amplitude * params_.amplitude;
-  const double noise2 = params_.noise * params_.noise;
-  double scale[L];
+  const Scalar a2 = static_cast<Scalar>(params_.amplitude * params_.amplitude);
+  const Scalar noise2 = static_cast<Scalar>(params_.noise * params_.noise);
+  Scalar scale[L];
   for (int lane = 0; lane < L; ++lane)
-    scale[lane] = -0.5 / (length_scale[lane] * length_scale[lane]);
+    scale[lane] = static_cast<Scalar>(-0.5 / (length_scale[lane] * length_scale[lane]));
   for (std::size_t k = 0; k < packed; ++k) {
     for (int lane = 0; lane < L; ++lane)
       k_[k * L + lane] = sq_dist_[k * L + lane] * scale[lane];
   }
-  Eigen::Map<Eigen::ArrayXd> kernel(k_.data(), packed * L);
+  Eigen::Map<Eigen::Array<Scalar, Eigen::Dynamic, 1>> kernel(k_.data(), packed * L);
   kernel = kernel.exp() * a2;
 
   // Row-oriented Cholesky with reciprocal pivots, lane-parallel; a failed lane keeps going on a
   // harmless pivot of 1 and reports +inf.
   bool failed[L] = {false};
-  double inverse_diag[kMaxBatchedSize][L];
-  double* row_i = k_.data();
+  Scalar inverse_diag[kMaxBatchedSize][L];
+  Scalar* row_i = k_.data();
   for (int i = 0; i < n; ++i) {
     for (int lane = 0; lane < L; ++lane)
       row_i[i * L + lane] += noise2;
-    const double* row_j = k_.data();
+    const Scalar* row_j = k_.data();
     for (int j = 0; j < i; ++j) {
-      double sum[L];
+      Scalar sum[L];
       for (int lane = 0; lane < L; ++lane)
         sum[lane] = row_i[j * L + lane];
       for (int k = 0; k < j; ++k) {
@@ -70,7 +74,7 @@ void LengthScaleSearch::negLogMarginalLikelihood(const double* length_scale, dou
         row_i[j * L + lane] = sum[lane] * inverse_diag[j][lane];
       row_j += (j + 1) * L;
     }
-    double diag[L];
+    Scalar diag[L];
     for (int lane = 0; lane < L; ++lane)
       diag[lane] = row_i[i * L + lane];
     for (int k = 0; k < i; ++k) {
@@ -78,25 +82,27 @@ void LengthScaleSearch::negLogMarginalLikelihood(const double* length_scale, dou
         diag[lane] -= row_i[k * L + lane] * row_i[k * L + lane];
     }
     for (int lane = 0; lane < L; ++lane) {
-      if (!(diag[lane] > 0.0) || !std::isfinite(diag[lane])) {
+      if (!(diag[lane] > Scalar(0)) || !std::isfinite(diag[lane])) {
         failed[lane] = true;
-        diag[lane] = 1.0;
+        diag[lane] = Scalar(1);
       }
-      const double pivot = std::sqrt(diag[lane]);
+      const Scalar pivot = std::sqrt(diag[lane]);
       row_i[i * L + lane] = pivot;
-      inverse_diag[i][lane] = 1.0 / pivot;
+      inverse_diag[i][lane] = Scalar(1) / pivot;
     }
     row_i += (i + 1) * L;
   }
 
   // z = L^-1 y (forward substitution dividing by the pivot, as LocalGp does), quad = |z|^2,
-  // log det = sum of logs of products of up to 16 pivots.
-  double quad[L] = {0.0}, log_det[L] = {0.0}, product[L];
+  // log det = sum of logs of products of up to 16 pivots (in double: 16 float pivots of a kernel
+  // with amplitude >= 1e-3 and noise >= 1e-6 can underflow a float).
+  Scalar quad[L] = {Scalar(0)};
+  double log_det[L] = {0.0}, product[L];
   for (int lane = 0; lane < L; ++lane)
     product[lane] = 1.0;
-  const double* row = k_.data();
+  const Scalar* row = k_.data();
   for (int i = 0; i < n; ++i) {
-    double sum[L];
+    Scalar sum[L];
     for (int lane = 0; lane < L; ++lane)
       sum[lane] = y_[std::size_t(i) * L + lane];
     for (int k = 0; k < i; ++k) {
@@ -104,8 +110,8 @@ void LengthScaleSearch::negLogMarginalLikelihood(const double* length_scale, dou
         sum[lane] -= row[k * L + lane] * z_[std::size_t(k) * L + lane];
     }
     for (int lane = 0; lane < L; ++lane) {
-      const double pivot = row[i * L + lane];
-      const double z = sum[lane] / pivot;
+      const Scalar pivot = row[i * L + lane];
+      const Scalar z = sum[lane] / pivot;
       z_[std::size_t(i) * L + lane] = z;
       quad[lane] += z * z;
       product[lane] *= pivot;
@@ -121,12 +127,15 @@ void LengthScaleSearch::negLogMarginalLikelihood(const double* length_scale, dou
   for (int lane = 0; lane < L; ++lane) {
     log_det[lane] += std::log(product[lane]);
     out[lane] = failed[lane] ? std::numeric_limits<double>::infinity()
-                             : 0.5 * quad[lane] + log_det[lane] + 0.5 * n * kLog2Pi;
+                             : 0.5 * double(quad[lane]) + log_det[lane] + 0.5 * n * kLog2Pi;
   }
 }
 
-void LengthScaleSearch::search(int n, int lanes, const float* const* az, const float* const* el,
-                               const double* const* y, double* length_scale) {
+template <typename Scalar>
+void BasicLengthScaleSearch<Scalar>::search(int n, int lanes, const float* const* az,
+                                            const float* const* el, const double* const* y,
+                                            double* length_scale) {
+  constexpr int L = kLanes;
   load(n, lanes, az, el, y);
   // goldenSectionMinimize (local_gp.hpp), one bracket per lane. All lanes share lo, hi and tol,
   // so they take the same number of steps; only which end moves differs per lane.
@@ -178,5 +187,8 @@ void LengthScaleSearch::search(int n, int lanes, const float* const* az, const f
   for (int lane = 0; lane < lanes; ++lane)
     length_scale[lane] = fc[lane] < fd[lane] ? c[lane] : d[lane];
 }
+
+template class BasicLengthScaleSearch<double>;
+template class BasicLengthScaleSearch<float>;
 
 }  // namespace multimodal_nvs

@@ -169,8 +169,9 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
     // The GP around a zero mean: out.mean is the residual's posterior mean (0 without a set); the
     // prior is added below.
     if (sets != nullptr) {
-      // Single precision in the per-pixel step: this model keeps no parity with the reference,
-      // and the residual GP's small amplitude keeps its factors well conditioned.
+      // Single precision in the length-scale search's likelihood and the per-pixel step: this
+      // model keeps no parity with the reference, and the residual GP's small amplitude keeps its
+      // kernels well conditioned.
       // The prior pass runs on each row as soon as the GP has written it (in cache).
       predictLocalGp(samples, residual, angles, *sets, residual_params, PriorMean{0.0}, pool, out,
                      PredictionPrecision::kSingle, finish_row);

@@ -12,15 +12,22 @@ namespace multimodal_nvs {
 ///
 /// Every lane runs exactly the operations a lone set would (same kernel exponentials, same
 /// Cholesky order, one log per 16 pivots), so a set's result does not depend on which sets share
-/// its batch: batching only fills the 8 double lanes of an AVX-512 register with useful work.
+/// its batch: batching only fills the lanes of an AVX-512 register with useful work.
 /// Used for sets of 3..kMaxBatchedSize samples; two-sample sets need the reference-exact path and
-/// one-sample sets need no likelihood at all (see depth_models.cpp).
-class LengthScaleSearch {
+/// one-sample sets need no likelihood at all (see local_gp_model.cpp).
+///
+/// `Scalar` is the arithmetic of the likelihood (the bracket itself is always double). double: the
+/// exact models (the reference computes in float64). float: twice the lanes, for models with no
+/// parity to keep (ground_gp's residual GP, whose small amplitude keeps its kernels well
+/// conditioned).
+template <typename Scalar>
+class BasicLengthScaleSearch {
  public:
-  static constexpr int kLanes = 8;
+  /// One 64-byte AVX-512 register of Scalar.
+  static constexpr int kLanes = 64 / static_cast<int>(sizeof(Scalar));
   static constexpr int kMaxBatchedSize = 32;
 
-  explicit LengthScaleSearch(const LocalGpParams& params) : params_(params) {}
+  explicit BasicLengthScaleSearch(const LocalGpParams& params) : params_(params) {}
 
   /// `lanes` sets (1..kLanes) of `n` samples each; set s has angles az[s][i], el[s][i] and shifted
   /// targets y[s][i]. Writes one length scale per set.
@@ -37,10 +44,16 @@ class LengthScaleSearch {
  private:
   LocalGpParams params_;
   int n_ = 0;
-  std::vector<double> sq_dist_;  // [packed (i, j), lane]
-  std::vector<double> y_;        // [i, lane]
-  SimdVector<double> k_;         // [packed (i, j), lane]: kernel, then Cholesky factor
-  std::vector<double> z_;        // [i, lane]: L^-1 y
+  std::vector<Scalar> sq_dist_;  // [packed (i, j), lane]
+  std::vector<Scalar> y_;        // [i, lane]
+  SimdVector<Scalar> k_;         // [packed (i, j), lane]: kernel, then Cholesky factor
+  std::vector<Scalar> z_;        // [i, lane]: L^-1 y
 };
+
+using LengthScaleSearch = BasicLengthScaleSearch<double>;
+using SingleLengthScaleSearch = BasicLengthScaleSearch<float>;
+
+extern template class BasicLengthScaleSearch<double>;
+extern template class BasicLengthScaleSearch<float>;
 
 }  // namespace multimodal_nvs

@@ -26,7 +26,8 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
 
 /// The same GP on explicit targets (sample depth minus the prior at the sample) around a prior
 /// mean: mean = prior + k*^T K^-1 y. With a constant prior c and targets z - c it is the model
-/// above. `precision`: of the per-pixel step only (the sets' searches and factors stay double).
+/// above. `precision`: of the length-scale search's likelihood (sets of 3..32 samples) and of the
+/// per-pixel step; the sets' factors stay double.
 /// `finish_row(row)`, when given, runs on the worker right after the row's pixels are written,
 /// while they are still in cache: a caller's per-pixel pass over the GP's output (ground_gp adds
 /// its prior there) then costs no second trip through memory.
