@@ -8,6 +8,8 @@
 function(mmnvs_add_gtest name)
   catkin_add_gtest(${name} ${ARGN} WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR})
   target_link_libraries(${name} multimodal_nvs_core multimodal_nvs_cli ${GTEST_MAIN_LIBRARIES})
+  # test_core writes PCD fixtures with PCL, whose calls would otherwise bind to the test's copies.
+  mmnvs_local_template_symbols(${name})
   target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
   target_compile_definitions(${name} PRIVATE
     MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}"

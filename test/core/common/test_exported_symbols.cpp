@@ -4,6 +4,7 @@
 // the same instantiations, and the dynamic linker would mix the two allocation schemes).
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -67,6 +68,16 @@ void expectEigenInstantiationsLocal(const std::string& library, int min_api_symb
 TEST(ExportedSymbols, CoreLibraryKeepsEigenInstantiationsLocal) {
   expectEigenInstantiationsLocal(std::string(MMNVS_TOOL_DIR) + "/../libmultimodal_nvs_core.so",
                                  100);
+}
+
+// The test binaries get the same map: test_core writes PCD fixtures through PCL.
+TEST(ExportedSymbols, ThisTestBinaryKeepsEigenInstantiationsLocal) {
+  // Resolved here: in nm's own process /proc/self would be nm.
+  const std::vector<std::string> symbols =
+      exportedSymbols(std::filesystem::read_symlink("/proc/self/exe").string());
+  EXPECT_FALSE(symbols.empty());  // gtest's and PCL's inline members are there
+  for (const std::string& symbol : symbols)
+    EXPECT_FALSE(mustBeLocal(symbol)) << "test_core exports " << symbol;
 }
 
 // The ROS layers are built beside the core except in the sanitizer build (core and tools only).
