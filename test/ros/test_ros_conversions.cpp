@@ -657,7 +657,7 @@ TEST(OutputConversion, DepthAndStddevColourImages) {
     EXPECT_EQ(image->step, 3 * image->width);
     ASSERT_EQ(image->data.size(), 3 * map.grid.size());
   }
-  for (std::size_t i = 0; i < map.grid.size(); ++i) {
+  for (long long i = 0; i < map.grid.size(); ++i) {
     const cv::Vec3b want_depth = map.valid[i] ? depth_scale(map.depth[i]) : cv::Vec3b(1, 2, 3);
     const cv::Vec3b want_stddev =
         i == 5 ? stddev_scale.noData() : stddev_scale(std::sqrt(map.variance[i]));
