@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "multimodal_nvs/core/depth/gp/batched_length_scale_search.hpp"
 #include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
 #include "multimodal_nvs/core/depth/gp/local_gp.hpp"
@@ -25,57 +26,6 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const PixelAngleG
   predictLocalGp(samples, shiftedTargets(samples, shift), angles, sets, params, PriorMean{shift},
                  pool, out);
 }
-
-namespace {
-/// Searches the length scale of every set of 3..32 samples in batches of equal size, one set per
-/// lane of `Search`; appends the other sets to `singles` (searched one at a time by the caller).
-template <typename Search>
-void searchLengthScalesBatched(const NeighbourSets& sets, const LocalGpParams& gp,
-                               const std::vector<std::size_t>& member_offset,
-                               const std::vector<float>& member_az,
-                               const std::vector<float>& member_el,
-                               const std::vector<double>& member_y, ThreadPool& pool,
-                               std::vector<double>& length_scales, std::vector<int>& singles) {
-  constexpr int kLanes = Search::kLanes;
-  std::vector<std::vector<int>> by_size(Search::kMaxBatchedSize + 1);
-  for (int s = 0; s < sets.setCount(); ++s) {
-    const int n = sets.setSize(s);
-    if (n >= 3 && n <= Search::kMaxBatchedSize) {
-      by_size[n].push_back(s);
-    } else {
-      singles.push_back(s);
-    }
-  }
-  struct Batch {
-    int size, first, count;
-  };
-  std::vector<Batch> batches;
-  for (int n = 3; n <= Search::kMaxBatchedSize; ++n) {
-    for (std::size_t i = 0; i < by_size[n].size(); i += kLanes) {
-      batches.push_back({n, static_cast<int>(i),
-                         static_cast<int>(std::min<std::size_t>(kLanes, by_size[n].size() - i))});
-    }
-  }
-  std::vector<Search> searches(pool.size(), Search(gp));
-  pool.parallelFor(static_cast<long long>(batches.size()), [&](long long b, int worker) {
-    const Batch& batch = batches[b];
-    const float* az[kLanes];
-    const float* el[kLanes];
-    const double* y[kLanes];
-    double result[kLanes];
-    for (int lane = 0; lane < batch.count; ++lane) {
-      const int s = by_size[batch.size][batch.first + lane];
-      az[lane] = member_az.data() + member_offset[s];
-      el[lane] = member_el.data() + member_offset[s];
-      y[lane] = member_y.data() + member_offset[s];
-    }
-    searches[worker].search(batch.size, batch.count, az, el, y, result);
-    for (int lane = 0; lane < batch.count; ++lane) {
-      length_scales[by_size[batch.size][batch.first + lane]] = result[lane];
-    }
-  });
-}
-}  // namespace
 
 void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector<double>& targets,
                     const PixelAngleGrid& angles, const NeighbourSets& sets,
@@ -119,14 +69,16 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
   }
 
   // 1. Length scales. Sets of 3..32 samples go in batches of equal size, one set per SIMD lane.
-  std::vector<int> singles;  // sets searched one at a time
-  if (precision == PredictionPrecision::kSingle) {
-    searchLengthScalesBatched<SingleLengthScaleSearch>(
-        sets, gp, member_offset, member_az, member_el, member_y, pool, length_scales, singles);
-  } else {
-    searchLengthScalesBatched<LengthScaleSearch>(sets, gp, member_offset, member_az, member_el,
-                                                 member_y, pool, length_scales, singles);
-  }
+  const auto set_data = [&](int s) {
+    const std::size_t first = member_offset[s];
+    return SearchSet{sets.setSize(s), member_az.data() + first, member_el.data() + first,
+                     member_y.data() + first};
+  };
+  const std::vector<int> singles =  // sets searched one at a time
+      precision == PredictionPrecision::kSingle ? searchInEqualSizeBatches<SingleLengthScaleSearch>(
+                                                      set_count, set_data, gp, pool, length_scales)
+                                                : searchInEqualSizeBatches<LengthScaleSearch>(
+                                                      set_count, set_data, gp, pool, length_scales);
   std::vector<LocalGp> gps(pool.size(), LocalGp(gp));
   pool.parallelFor(static_cast<long long>(singles.size()), [&](long long k, int worker) {
     const int s = singles[k];

@@ -11,6 +11,7 @@
 
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/gp/batched_length_scale_search.hpp"
 #include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
 #include "multimodal_nvs/core/depth/gp/local_gp.hpp"
@@ -111,40 +112,16 @@ std::vector<double> searchBlockLengthScales(const std::vector<BlockSet>& sets,
                                             const LocalGpParams& gp, ThreadPool& pool,
                                             std::vector<TileWorkspace>& workspaces) {
   std::vector<double> length_scale(sets.size(), 0.0);
-  std::vector<std::vector<int>> by_size(LengthScaleSearch::kMaxBatchedSize + 1);
-  std::vector<int> singles;
-  for (std::size_t b = 0; b < sets.size(); ++b) {
-    const int n = static_cast<int>(sets[b].y.size());
-    if (n >= 3 && n <= LengthScaleSearch::kMaxBatchedSize) {
-      by_size[n].push_back(static_cast<int>(b));
-    } else if (n > 0) {
-      singles.push_back(static_cast<int>(b));
-    }
-  }
-  std::vector<std::vector<int>> batches;
-  for (const std::vector<int>& equal_size : by_size) {
-    for (std::size_t i = 0; i < equal_size.size(); i += LengthScaleSearch::kLanes) {
-      const std::size_t end = std::min(equal_size.size(), i + LengthScaleSearch::kLanes);
-      batches.emplace_back(equal_size.begin() + i, equal_size.begin() + end);
-    }
-  }
-  std::vector<LengthScaleSearch> searches(pool.size(), LengthScaleSearch(gp));
-  pool.parallelFor(static_cast<long long>(batches.size()), [&](long long k, int worker) {
-    const std::vector<int>& batch = batches[k];
-    const float* az[LengthScaleSearch::kLanes];
-    const float* el[LengthScaleSearch::kLanes];
-    const double* y[LengthScaleSearch::kLanes];
-    double result[LengthScaleSearch::kLanes];
-    for (std::size_t lane = 0; lane < batch.size(); ++lane) {
-      az[lane] = sets[batch[lane]].az.data();
-      el[lane] = sets[batch[lane]].el.data();
-      y[lane] = sets[batch[lane]].y.data();
-    }
-    const int lanes = static_cast<int>(batch.size());
-    searches[worker].search(static_cast<int>(sets[batch[0]].y.size()), lanes, az, el, y, result);
-    for (int lane = 0; lane < lanes; ++lane)
-      length_scale[batch[lane]] = result[lane];
-  });
+  const auto set_data = [&](int b) {
+    return SearchSet{static_cast<int>(sets[b].y.size()), sets[b].az.data(), sets[b].el.data(),
+                     sets[b].y.data()};
+  };
+  std::vector<int> singles = searchInEqualSizeBatches<LengthScaleSearch>(
+      static_cast<int>(sets.size()), set_data, gp, pool, length_scale);
+  // An empty set keeps length scale 0 (its block has no sample).
+  singles.erase(
+      std::remove_if(singles.begin(), singles.end(), [&](int b) { return sets[b].y.empty(); }),
+      singles.end());
   pool.parallelFor(static_cast<long long>(singles.size()), [&](long long k, int worker) {
     const BlockSet& set = sets[singles[k]];
     LocalGp& local = workspaces[worker].gp;
