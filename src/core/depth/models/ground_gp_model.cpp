@@ -168,16 +168,17 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
     residual_params.gp.tolerance = std::max(params.gp.tolerance, kResidualLengthScaleToleranceDeg);
     // The GP around a zero mean: out.mean is the residual's posterior mean (0 without a set); the
     // prior is added below.
+    // Single precision in the length-scale search's likelihood and the per-pixel step (exact
+    // sets and tiles alike): this model keeps no parity with the reference, and the residual GP's
+    // small amplitude keeps its kernels well conditioned.
     if (sets != nullptr) {
-      // Single precision in the length-scale search's likelihood and the per-pixel step: this
-      // model keeps no parity with the reference, and the residual GP's small amplitude keeps its
-      // kernels well conditioned.
       // The prior pass runs on each row as soon as the GP has written it (in cache).
       predictLocalGp(samples, residual, angles, *sets, residual_params, PriorMean{0.0}, pool, out,
                      PredictionPrecision::kSingle, finish_row);
       return;
     } else {
-      predictTiledLocalGp(samples, residual, angles, residual_params, PriorMean{0.0}, pool, out);
+      predictTiledLocalGp(samples, residual, angles, residual_params, PriorMean{0.0}, pool, out,
+                          PredictionPrecision::kSingle);
     }
   } else {
     fillPredictions(angles, 0.0f, 0.0f, pool, out);

@@ -109,15 +109,20 @@ struct BlockSet {
 /// Length scale of every block's set (0 for an empty set). Sets of 3..kMaxBatchedSize samples are
 /// searched kLanes at a time, grouped by size; the others one by one.
 std::vector<double> searchBlockLengthScales(const std::vector<BlockSet>& sets,
-                                            const LocalGpParams& gp, ThreadPool& pool,
+                                            const LocalGpParams& gp, PredictionPrecision precision,
+                                            ThreadPool& pool,
                                             std::vector<TileWorkspace>& workspaces) {
   std::vector<double> length_scale(sets.size(), 0.0);
   const auto set_data = [&](int b) {
     return SearchSet{static_cast<int>(sets[b].y.size()), sets[b].az.data(), sets[b].el.data(),
                      sets[b].y.data()};
   };
-  std::vector<int> singles = searchInEqualSizeBatches<LengthScaleSearch>(
-      static_cast<int>(sets.size()), set_data, gp, pool, length_scale);
+  const int count = static_cast<int>(sets.size());
+  std::vector<int> singles =
+      precision == PredictionPrecision::kSingle
+          ? searchInEqualSizeBatches<SingleLengthScaleSearch>(count, set_data, gp, pool,
+                                                              length_scale)
+          : searchInEqualSizeBatches<LengthScaleSearch>(count, set_data, gp, pool, length_scale);
   // An empty set keeps length scale 0 (its block has no sample).
   singles.erase(
       std::remove_if(singles.begin(), singles.end(), [&](int b) { return sets[b].y.empty(); }),
@@ -143,7 +148,7 @@ int predictTiledLocalGp(const std::vector<AngularSample>& samples, const PixelAn
 int predictTiledLocalGp(const std::vector<AngularSample>& samples,
                         const std::vector<double>& targets, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, const PriorMean& prior,
-                        ThreadPool& pool, PixelPredictions& out) {
+                        ThreadPool& pool, PixelPredictions& out, PredictionPrecision precision) {
   const LocalGpParams& gp = params.gp;
   const double shift = prior.constant;
   fillPredictions(angles, static_cast<float>(shift), static_cast<float>(gp.priorVariance()), pool,
@@ -180,7 +185,7 @@ int predictTiledLocalGp(const std::vector<AngularSample>& samples,
     block_sets[b].y.resize(n);
   });
   const std::vector<double> block_length_scale =
-      searchBlockLengthScales(block_sets, gp, pool, workspaces);
+      searchBlockLengthScales(block_sets, gp, precision, pool, workspaces);
 
   // 2. Per tile: its own nearest samples, one factorisation, predictions for its pixels.
   std::vector<std::uint8_t> solved(std::size_t(tiles_x) * tiles_y, 0);
@@ -213,7 +218,7 @@ int predictTiledLocalGp(const std::vector<AngularSample>& samples,
     minSquaredDistance(ws.pixel_az.data(), ws.pixel_el.data(), pixels, ws, n, ws.min_d2.data());
     predictFromFactor(ws.factor.data(), ws.beta.data(), ws.az.data(), ws.el.data(), n, length_scale,
                       gp, ws.pixel_az.data(), ws.pixel_el.data(), pixels, shift, ws.mean.data(),
-                      ws.var.data());
+                      ws.var.data(), precision);
     for (int r = 0; r < height; ++r) {
       const std::size_t row_start = std::size_t(geometry.r0 + r) * cols + c0;
       for (int c = 0; c < width; ++c) {

@@ -4,6 +4,7 @@
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
@@ -17,11 +18,13 @@ int predictTiledLocalGp(const std::vector<AngularSample>& samples, const PixelAn
                         PixelPredictions& out);
 
 /// The same approximation on explicit targets around a prior mean (as the second predictLocalGp):
-/// ground_gp's residual GP when its neighbour sets are large.
+/// ground_gp's residual GP when its neighbour sets are large. `precision`: of the length-scale
+/// searches' likelihood and of the per-pixel step (the factors stay double), as in predictLocalGp.
 int predictTiledLocalGp(const std::vector<AngularSample>& samples,
                         const std::vector<double>& targets, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, const PriorMean& prior,
-                        ThreadPool& pool, PixelPredictions& out);
+                        ThreadPool& pool, PixelPredictions& out,
+                        PredictionPrecision precision = PredictionPrecision::kDouble);
 
 /// Mean number of samples (itself included) within params.radius_deg of a sample in view: the
 /// mean size of the neighbour sets near the returns. VoD and nuScenes radar: 5-9; Astyx 6455
