@@ -75,10 +75,7 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
                      member_y.data() + first};
   };
   const std::vector<int> singles =  // sets searched one at a time
-      precision == PredictionPrecision::kSingle ? searchInEqualSizeBatches<SingleLengthScaleSearch>(
-                                                      set_count, set_data, gp, pool, length_scales)
-                                                : searchInEqualSizeBatches<LengthScaleSearch>(
-                                                      set_count, set_data, gp, pool, length_scales);
+      searchInEqualSizeBatches(precision, set_count, set_data, gp, pool, length_scales);
   std::vector<LocalGp> gps(pool.size(), LocalGp(gp));
   pool.parallelFor(static_cast<long long>(singles.size()), [&](long long k, int worker) {
     const int s = singles[k];

@@ -117,12 +117,8 @@ std::vector<double> searchBlockLengthScales(const std::vector<BlockSet>& sets,
     return SearchSet{static_cast<int>(sets[b].y.size()), sets[b].az.data(), sets[b].el.data(),
                      sets[b].y.data()};
   };
-  const int count = static_cast<int>(sets.size());
-  std::vector<int> singles =
-      precision == PredictionPrecision::kSingle
-          ? searchInEqualSizeBatches<SingleLengthScaleSearch>(count, set_data, gp, pool,
-                                                              length_scale)
-          : searchInEqualSizeBatches<LengthScaleSearch>(count, set_data, gp, pool, length_scale);
+  std::vector<int> singles = searchInEqualSizeBatches(precision, static_cast<int>(sets.size()),
+                                                      set_data, gp, pool, length_scale);
   // An empty set keeps length scale 0 (its block has no sample).
   singles.erase(
       std::remove_if(singles.begin(), singles.end(), [&](int b) { return sets[b].y.empty(); }),

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "multimodal_nvs/core/common/thread_pool.hpp"
+#include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
 
 namespace multimodal_nvs {
@@ -64,6 +65,19 @@ std::vector<int> searchInEqualSizeBatches(int set_count, const SetAccess& set,
       length_scales[batch.sets[lane]] = result[lane];
   });
   return others;
+}
+
+/// The same with the search's precision chosen at run time: single (SingleLengthScaleSearch) for
+/// models that keep no parity with the reference, double (LengthScaleSearch) otherwise.
+template <typename SetAccess>
+std::vector<int> searchInEqualSizeBatches(PredictionPrecision precision, int set_count,
+                                          const SetAccess& set, const LocalGpParams& gp,
+                                          ThreadPool& pool, std::vector<double>& length_scales) {
+  if (precision == PredictionPrecision::kSingle) {
+    return searchInEqualSizeBatches<SingleLengthScaleSearch>(set_count, set, gp, pool,
+                                                             length_scales);
+  }
+  return searchInEqualSizeBatches<LengthScaleSearch>(set_count, set, gp, pool, length_scales);
 }
 
 }  // namespace multimodal_nvs
