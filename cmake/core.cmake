@@ -29,17 +29,25 @@ mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -isystem ${PCL_COMMON_INCL
 target_link_libraries(multimodal_nvs_core PRIVATE ${PCL_IO_LIBRARY} ${PCL_COMMON_LIBRARY})
 
 # Files that need flags of their own (the package default is -ffp-contract=off, for parity).
-# The per-pixel GP prediction needs no bit-level parity with the reference, so it may use fused
-# multiply-add.
-set(MMNVS_FUSED_MULTIPLY_ADD_SOURCES src/core/depth/gp/gp_prediction.cpp)
+# The per-pixel GP prediction and the bilateral filter need no bit-level parity with a reference,
+# so they may use fused multiply-add.
+set(MMNVS_FUSED_MULTIPLY_ADD_SOURCES src/core/depth/gp/gp_prediction.cpp
+  src/core/common/bilateral_filter.cpp)
 # ground_gp's full-image pass chooses between ground, surface and far depth per pixel; GCC turns
 # those choices into vector blends only if floating-point exceptions need not be preserved (nothing
-# reads the FP status flags; results are unchanged).
-set(MMNVS_NO_TRAPPING_MATH_SOURCES src/core/depth/models/ground_gp_model.cpp)
+# reads the FP status flags; results are unchanged). The bilateral filter's column loop (NaN rules,
+# a branch-free exponential) vectorises only under the same flag.
+set(MMNVS_NO_TRAPPING_MATH_SOURCES src/core/depth/models/ground_gp_model.cpp
+  src/core/common/bilateral_filter.cpp)
 mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -ffp-contract=fast
   SOURCES ${MMNVS_FUSED_MULTIPLY_ADD_SOURCES})
 mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -fno-trapping-math
   SOURCES ${MMNVS_NO_TRAPPING_MATH_SOURCES})
+# The exact distance transform's last step, sqrt of each row's squared distances, vectorises only
+# if sqrt need not set errno (its arguments are never negative; results are unchanged).
+set(MMNVS_NO_MATH_ERRNO_SOURCES src/core/common/distance_transform.cpp)
+mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -fno-math-errno
+  SOURCES ${MMNVS_NO_MATH_ERRNO_SOURCES})
 # CGAL's filtered predicates (interval arithmetic) need -frounding-math. Only the file that uses
 # CGAL gets it: linking the CGAL::CGAL target would put it on every core file (slower code, and
 # the parity-critical arithmetic compiled differently).

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "multimodal_nvs/core/common/errors.hpp"
@@ -45,10 +46,10 @@ void columnSweeps(const cv::Mat& mask, cv::Mat& vertical, int c0, int c1, std::i
 /// Row pass (Meijster et al.'s second phase, squared Euclidean distance): the lower envelope of the
 /// parabolas (x - i)^2 + g(i)^2. `Int` holds every squared distance and separator numerator
 /// (int32 up to ~30k px of rows + cols, measured 2x faster than int64). `site`, `start`, `square`,
-/// `squared` are scratch of the row's length.
+/// `squared` are scratch of the row's length; `half_reciprocal[k]` = 1 / (2k).
 template <typename Int>
 void rowPass(const std::int32_t* g, int cols, float* out, Int* site, Int* start, Int* square,
-             Int* squared) {
+             Int* squared, const double* half_reciprocal) {
   for (int x = 0; x < cols; ++x)
     square[x] = Int(g[x]) * g[x];
   int q = 0;
@@ -69,7 +70,18 @@ void rowPass(const std::int32_t* g, int cols, float* out, Int* site, Int* start,
     // First column where u lies below site[q]: it is not above u at start[q] >= 0, so the
     // numerator is >= 0 and `/` floors.
     const Int i = site[q];
-    const Int w = 1 + (u * u - i * i + gu - square[i]) / (2 * (u - i));
+    const Int numerator = u * u - i * i + gu - square[i];
+    Int w;
+    if constexpr (std::is_same<Int, std::int32_t>::value) {
+      // floor(n / (2k)) as floor((n + 0.5) / (2k)) in double with a tabulated 1 / (2k): the
+      // integer division was the latency of the envelope's dependency chain. Exact: the quotient
+      // is then at least 0.5 / (2k) >= 1 / (4 cols) from an integer, while the double product of
+      // a value below 2^31 errs by less than 2^31 * 2^-52 = 2^-21 (test_distance_transform
+      // compares with OpenCV bit for bit).
+      w = 1 + static_cast<Int>((numerator + 0.5) * half_reciprocal[u - i]);
+    } else {
+      w = 1 + numerator / (2 * (u - i));
+    }
     if (w < cols) {
       ++q;
       site[q] = u;
@@ -90,13 +102,16 @@ template <typename Int>
 void rowPasses(const cv::Mat& vertical, cv::Mat& distance, ThreadPool& pool) {
   const int rows = vertical.rows, cols = vertical.cols;
   const int blocks = (rows + kRowBlock - 1) / kRowBlock;
+  std::vector<double> half_reciprocal(std::max(1, cols));
+  for (int k = 1; k < cols; ++k)
+    half_reciprocal[k] = 1.0 / (2.0 * k);
   pool.parallelFor(blocks, [&](long long b, int) {
     std::vector<Int> scratch(4 * std::size_t(cols));
     Int* site = scratch.data();
     const int r0 = static_cast<int>(b) * kRowBlock;
     for (int r = r0; r < std::min(rows, r0 + kRowBlock); ++r) {
       rowPass<Int>(vertical.ptr<std::int32_t>(r), cols, distance.ptr<float>(r), site, site + cols,
-                   site + 2 * cols, site + 3 * cols);
+                   site + 2 * cols, site + 3 * cols, half_reciprocal.data());
     }
   });
 }
