@@ -201,16 +201,18 @@ void predictIpBasic(const std::vector<AngularSample>& all_samples, const PixelAn
       float* mean = work.ptr<float>(r);     // the filled image before smoothing, then the mean
       float* var = distance.ptr<float>(r);  // the distance, then the variance
       const float* smooth = smoothed.ptr<float>(r);
+      // Branch-free, with every value it reads kept in locals (a captured float might alias the
+      // stores), so that the loop vectorises; this file is built with -fno-trapping-math.
+      const float inversion = offset, missing = no_mean;
+      const double scale_deg = deg_per_pixel;
       for (int c = 0; c < cols; ++c) {
-        const bool lost = smooth[c] <= kEmpty && mean[c] > kEmpty;
-        const float value = lost ? mean[c] : smooth[c];
-        if (!(value > kEmpty)) {
-          mean[c] = no_mean;
-          var[c] = kNoPrediction;
-          continue;
-        }
-        mean[c] = offset - value;
-        var[c] = static_cast<float>(distanceVariance(var[c] * deg_per_pixel, params));
+        const float filled = mean[c], smoothed_value = smooth[c];
+        const bool lost = (smoothed_value <= kEmpty) & (filled > kEmpty);
+        const float value = lost ? filled : smoothed_value;
+        const bool predicted = value > kEmpty;
+        const float variance = static_cast<float>(distanceVariance(var[c] * scale_deg, params));
+        mean[c] = predicted ? inversion - value : missing;
+        var[c] = predicted ? variance : kNoPrediction;
       }
     }
   });
