@@ -12,6 +12,7 @@
 #include "multimodal_nvs/core/common/bilateral_filter.hpp"
 #include "multimodal_nvs/core/common/distance_transform.hpp"
 #include "multimodal_nvs/core/common/rect_morphology.hpp"
+#include "multimodal_nvs/core/common/sparse_dilation.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/common/striped_filters.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
@@ -179,10 +180,10 @@ void predictIpBasic(const std::vector<AngularSample>& all_samples, const PixelAn
   const double spacing = std::sqrt(area / double(occupied));
   const double scale = std::min(8.0, std::max(0.5, spacing / kIpBasicReferenceSpacing));
 
-  // Diamond (L1 ball) of odd size n: n / 2 passes of the 3x3 cross, exact for the L1 ball and
-  // O(radius) per pixel instead of O(n^2). Then the closing. Both in cache-sized stripes.
-  const cv::Mat cross = cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3));
-  stripedMorphology(work, scratch.median, cv::MORPH_DILATE, cross, scaledSize(5, scale) / 2, pool);
+  // Diamond (L1 ball) of odd size n, written around each projected return (the image is sparse
+  // and non-negative: the same bits as n / 2 passes of the 3x3 cross over every pixel). Then the
+  // closing, in cache-sized stripes.
+  dilateSparseByDiamond(work, pixel_of_sample, scaledSize(5, scale) / 2, scratch.median, pool);
   stripedMorphology(scratch.median, work, cv::MORPH_CLOSE, rect(scaledSize(5, scale)), 1, pool);
   fillFromDilation(work, scaledSize(7, scale), scratch.dilated, scratch.mask, pool);
   extendTopValues(work);
