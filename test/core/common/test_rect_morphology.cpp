@@ -4,36 +4,16 @@
 // 1, 2 and 5 threads.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <opencv2/imgproc.hpp>
-#include <random>
 
+#include "core/float_image_fixtures.hpp"
 #include "multimodal_nvs/core/common/rect_morphology.hpp"
 
 namespace mm = multimodal_nvs;
+using mm::test::expectSameBytes;
+using mm::test::sparseFloatImage;
 
 namespace {
-
-/// Values in [1, 100) with a share `holes` of zeros.
-cv::Mat sparseImage(int rows, int cols, double holes, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> value(1.0f, 100.0f);
-  std::bernoulli_distribution hole(holes);
-  cv::Mat image(rows, cols, CV_32FC1);
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c)
-      image.at<float>(r, c) = hole(rng) ? 0.0f : value(rng);
-  return image;
-}
-
-void expectSameBytes(const cv::Mat& expected, const cv::Mat& actual, const std::string& what) {
-  ASSERT_EQ(expected.size(), actual.size()) << what;
-  ASSERT_EQ(expected.type(), actual.type()) << what;
-  for (int r = 0; r < expected.rows; ++r) {
-    ASSERT_EQ(0, std::memcmp(expected.ptr(r), actual.ptr(r), expected.cols * expected.elemSize()))
-        << what << ", row " << r;
-  }
-}
 
 cv::Mat square(int ksize) {
   return cv::getStructuringElement(cv::MORPH_RECT, cv::Size(ksize, ksize));
@@ -48,7 +28,7 @@ TEST(RectMorphology, MatchesOpenCvOnWholeImages) {
   };
   for (const Case& k : {Case{61, 97, 0.9}, Case{130, 300, 0.99}, Case{5, 7, 0.5}, Case{1, 40, 0.7},
                         Case{33, 1, 0.7}}) {
-    const cv::Mat in = sparseImage(k.rows, k.cols, k.holes, 17u * k.rows + k.cols);
+    const cv::Mat in = sparseFloatImage(k.rows, k.cols, k.holes, 17u * k.rows + k.cols);
     for (int ksize : {1, 3, 5, 13, 17, 31, 75}) {
       for (int threads : {1, 2, 5}) {
         mm::ThreadPool pool(threads);
@@ -68,7 +48,7 @@ TEST(RectMorphology, MatchesOpenCvOnWholeImages) {
 
 TEST(RectMorphology, RoiReadsItsParentLikeOpenCv) {
   mm::ThreadPool pool(2);
-  const cv::Mat parent = sparseImage(90, 120, 0.95, 3u);
+  const cv::Mat parent = sparseFloatImage(90, 120, 0.95, 3u);
   // ROIs in the middle, at each edge and in a corner: the context available on each side differs.
   for (const cv::Rect& box :
        {cv::Rect(30, 20, 40, 30), cv::Rect(0, 10, 50, 60), cv::Rect(70, 0, 50, 45),
@@ -89,7 +69,7 @@ TEST(RectMorphology, RoiReadsItsParentLikeOpenCv) {
 
 TEST(RectMorphology, InPlaceAndClosingLikeMorphologyEx) {
   mm::ThreadPool pool(2);
-  const cv::Mat in = sparseImage(80, 150, 0.9, 9u);
+  const cv::Mat in = sparseFloatImage(80, 150, 0.9, 9u);
   cv::Mat expected;
   cv::morphologyEx(in, expected, cv::MORPH_CLOSE, square(13));
   cv::Mat work = in.clone();
@@ -102,7 +82,7 @@ TEST(RectMorphology, RejectsBadArguments) {
   mm::ThreadPool pool(1);
   cv::Mat bytes(4, 4, CV_8UC1, cv::Scalar(1)), out;
   EXPECT_ANY_THROW(mm::rectDilate(bytes, out, 3, pool));
-  const cv::Mat image = sparseImage(4, 4, 0.5, 1u);
+  const cv::Mat image = sparseFloatImage(4, 4, 0.5, 1u);
   EXPECT_ANY_THROW(mm::rectDilate(image, out, 4, pool));
   EXPECT_ANY_THROW(mm::rectErode(image, out, 0, pool));
 }

@@ -3,13 +3,14 @@
 // 9, a list with duplicates, zero pixels and out-of-range entries, and 1, 2 and 5 threads.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
+#include "core/float_image_fixtures.hpp"
 #include "multimodal_nvs/core/common/sparse_dilation.hpp"
 
 namespace mm = multimodal_nvs;
+using mm::test::expectSameBytes;
 
 namespace {
 
@@ -33,15 +34,6 @@ SparseScan sparseScan(int rows, int cols, double density, unsigned seed) {
     }
   }
   return scan;
-}
-
-void expectSameBytes(const cv::Mat& expected, const cv::Mat& actual, const std::string& what) {
-  ASSERT_EQ(expected.size(), actual.size()) << what;
-  ASSERT_EQ(expected.type(), actual.type()) << what;
-  for (int r = 0; r < expected.rows; ++r) {
-    ASSERT_EQ(0, std::memcmp(expected.ptr(r), actual.ptr(r), expected.cols * expected.elemSize()))
-        << what << ", row " << r;
-  }
 }
 
 }  // namespace

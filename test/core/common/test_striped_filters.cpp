@@ -3,36 +3,16 @@
 // that do and do not split evenly, ROIs whose parent holds other values, 1, 2 and 5 threads.
 #include <gtest/gtest.h>
 
-#include <cstring>
 #include <opencv2/imgproc.hpp>
-#include <random>
 
+#include "core/float_image_fixtures.hpp"
 #include "multimodal_nvs/core/common/striped_filters.hpp"
 
 namespace mm = multimodal_nvs;
+using mm::test::expectSameBytes;
+using mm::test::sparseFloatImage;
 
 namespace {
-
-/// Values in [1, 100) with a share `holes` of zeros.
-cv::Mat sparseImage(int rows, int cols, double holes, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> value(1.0f, 100.0f);
-  std::bernoulli_distribution hole(holes);
-  cv::Mat image(rows, cols, CV_32FC1);
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c)
-      image.at<float>(r, c) = hole(rng) ? 0.0f : value(rng);
-  return image;
-}
-
-void expectSameBytes(const cv::Mat& expected, const cv::Mat& actual) {
-  ASSERT_EQ(expected.size(), actual.size());
-  ASSERT_EQ(expected.type(), actual.type());
-  for (int r = 0; r < expected.rows; ++r) {
-    ASSERT_EQ(0, std::memcmp(expected.ptr(r), actual.ptr(r), expected.cols * expected.elemSize()))
-        << "row " << r;
-  }
-}
 
 const cv::Mat kKernels[] = {
     cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3)),
@@ -43,7 +23,7 @@ const cv::Mat kKernels[] = {
 
 TEST(StripedFilters, DilateMatchesOpenCv) {
   for (int rows : {1, 7, 64, 97, 301}) {
-    const cv::Mat image = sparseImage(rows, 53, 0.9, 17u + rows);
+    const cv::Mat image = sparseFloatImage(rows, 53, 0.9, 17u + rows);
     for (int threads : {1, 2, 5}) {
       mm::ThreadPool pool(threads);
       for (const cv::Mat& kernel : kKernels) {
@@ -57,7 +37,7 @@ TEST(StripedFilters, DilateMatchesOpenCv) {
 }
 
 TEST(StripedFilters, RoiReadsItsParentLikeOpenCv) {
-  const cv::Mat image = sparseImage(260, 90, 0.8, 3u);
+  const cv::Mat image = sparseFloatImage(260, 90, 0.8, 3u);
   const cv::Mat roi = image(cv::Rect(11, 40, 60, 170));
   mm::ThreadPool pool(2);
   for (const cv::Mat& kernel : kKernels) {
@@ -75,7 +55,7 @@ TEST(StripedFilters, RoiReadsItsParentLikeOpenCv) {
 
 TEST(StripedFilters, MedianBlurMatchesOpenCv) {
   for (int rows : {1, 4, 33, 64, 97, 301}) {
-    const cv::Mat image = sparseImage(rows, 61, 0.5, 5u + rows);
+    const cv::Mat image = sparseFloatImage(rows, 61, 0.5, 5u + rows);
     for (int ksize : {3, 5}) {
       for (int threads : {1, 2, 5}) {
         mm::ThreadPool pool(threads);
@@ -90,7 +70,7 @@ TEST(StripedFilters, MedianBlurMatchesOpenCv) {
 
 TEST(StripedFilters, MorphologyMatchesOpenCvWithIterations) {
   for (int rows : {1, 5, 50, 97, 400}) {
-    const cv::Mat image = sparseImage(rows, 47, 0.9, 23u + rows);
+    const cv::Mat image = sparseFloatImage(rows, 47, 0.9, 23u + rows);
     for (int threads : {1, 2, 5}) {
       mm::ThreadPool pool(threads);
       for (int op : {cv::MORPH_DILATE, cv::MORPH_ERODE, cv::MORPH_OPEN, cv::MORPH_CLOSE}) {
@@ -108,7 +88,7 @@ TEST(StripedFilters, MorphologyMatchesOpenCvWithIterations) {
 }
 
 TEST(StripedFilters, OutputBufferIsReused) {
-  const cv::Mat image = sparseImage(200, 40, 0.7, 9u);
+  const cv::Mat image = sparseFloatImage(200, 40, 0.7, 9u);
   mm::ThreadPool pool(2);
   cv::Mat out(200, 40, CV_32FC1);
   const uchar* before = out.data;
