@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/repeated_rows.hpp"
 
 namespace multimodal_nvs {
 namespace {
@@ -101,6 +102,9 @@ void bilateralFilterFloat(const cv::Mat& in, cv::Mat& out, int diameter, double 
   out.create(rows, cols, CV_32FC1);
   if (rows == 0 || cols == 0) return;
   const float color = static_cast<float>(color_coeff);
+  // Rows whose window repeats an earlier row's (a filled depth image above the highest LiDAR ring)
+  // are copied from that row's output instead of filtered again.
+  const std::vector<int> source = repeatedRowSources(in, radius, pool);
   const int blocks = (rows + kRowBlock - 1) / kRowBlock;
   pool.parallelFor(blocks, [&](long long b, int) {
     thread_local std::vector<float> buffer;
@@ -109,6 +113,7 @@ void bilateralFilterFloat(const cv::Mat& in, cv::Mat& out, int diameter, double 
     float* wsum = sum + cols;
     const int r0 = static_cast<int>(b) * kRowBlock;
     for (int r = r0; r < std::min(rows, r0 + kRowBlock); ++r) {
+      if (source[r] != r) continue;
       const float* centre = in.ptr<float>(r);
       std::fill(buffer.begin(), buffer.end(), 0.0f);
       for (const Offset& k : offsets) {
@@ -121,6 +126,12 @@ void bilateralFilterFloat(const cv::Mat& in, cv::Mat& out, int diameter, double 
         const float c = centre[j];
         target[j] = (c == c) ? (sum[j] + c) / (wsum[j] + 1.0f) : sum[j] / wsum[j];
       }
+    }
+  });
+  pool.parallelFor(blocks, [&](long long b, int) {
+    const int r0 = static_cast<int>(b) * kRowBlock;
+    for (int r = r0; r < std::min(rows, r0 + kRowBlock); ++r) {
+      if (source[r] != r) std::copy_n(out.ptr<float>(source[r]), cols, out.ptr<float>(r));
     }
   });
 }
