@@ -46,10 +46,17 @@ cv::Mat rect(int size) {
 /// neighbours outside a ROI from the parent image, so the values there are those of the full-image
 /// dilation (outputs unchanged), and after the earlier fills the box is often a fraction of the
 /// image.
-void fillFromDilation(cv::Mat& image, int size, std::vector<float>& dilated_storage, cv::Mat& empty,
-                      ThreadPool& pool) {
+/// Rows outside [data_top, data_bottom] hold no value (they are 0): a dilation reaches at most
+/// size / 2 rows beyond them, so the box is clipped there (outside, the dilation is 0, the value
+/// the empty pixels already have).
+void fillFromDilation(cv::Mat& image, int size, int data_top, int data_bottom,
+                      std::vector<float>& dilated_storage, cv::Mat& empty, ThreadPool& pool) {
   cv::compare(image, kEmpty, empty, cv::CMP_LE);
-  const cv::Rect box = cv::boundingRect(empty);
+  cv::Rect box = cv::boundingRect(empty);
+  const int top = std::max(box.y, data_top - size / 2);
+  const int bottom = std::min(box.y + box.height, data_bottom + size / 2 + 1);
+  box.y = top;
+  box.height = std::max(0, bottom - top);
   if (box.empty()) return;
   cv::Mat roi = image(box);
   // The box's size changes from call to call: a header over a buffer that never shrinks avoids
@@ -185,9 +192,13 @@ void predictIpBasic(const std::vector<AngularSample>& all_samples, const PixelAn
   // closing, in cache-sized stripes.
   dilateSparseByDiamond(work, pixel_of_sample, scaledSize(5, scale) / 2, scratch.median, pool);
   stripedMorphology(scratch.median, work, cv::MORPH_CLOSE, rect(scaledSize(5, scale)), 1, pool);
-  fillFromDilation(work, scaledSize(7, scale), scratch.dilated, scratch.mask, pool);
+  // Rows that can hold a value after the diamond and the closing: within their reach of the
+  // projected returns' rows.
+  const int reach = scaledSize(5, scale) / 2 + scaledSize(5, scale) / 2;
+  fillFromDilation(work, scaledSize(7, scale), row_min - reach, row_max + reach, scratch.dilated,
+                   scratch.mask, pool);
   extendTopValues(work);
-  fillFromDilation(work, scaledSize(31, scale), scratch.dilated, scratch.mask, pool);
+  fillFromDilation(work, scaledSize(31, scale), 0, rows - 1, scratch.dilated, scratch.mask, pool);
   stripedMedianBlur(work, scratch.median, 5, pool);
   bilateralFilterFloat(scratch.median, scratch.smooth, 5, 1.5, 2.0, pool);
 
