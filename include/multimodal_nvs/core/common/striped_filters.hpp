@@ -17,6 +17,7 @@ void stripedDilate(const cv::Mat& in, cv::Mat& out, const cv::Mat& kernel, Threa
 
 /// cv::medianBlur(in, out, ksize) by row stripes, each filtered with ksize / 2 rows of context on
 /// each side. `in` is treated as a whole image (its parent, if any, is not read), as OpenCV does.
+/// A row whose window repeats an earlier row's (repeatedRowSources) is copied, not filtered.
 void stripedMedianBlur(const cv::Mat& in, cv::Mat& out, int ksize, ThreadPool& pool);
 
 /// cv::morphologyEx(in, out, op, kernel, default anchor, iterations) for op MORPH_DILATE,
