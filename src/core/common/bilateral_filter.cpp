@@ -128,12 +128,7 @@ void bilateralFilterFloat(const cv::Mat& in, cv::Mat& out, int diameter, double 
       }
     }
   });
-  pool.parallelFor(blocks, [&](long long b, int) {
-    const int r0 = static_cast<int>(b) * kRowBlock;
-    for (int r = r0; r < std::min(rows, r0 + kRowBlock); ++r) {
-      if (source[r] != r) std::copy_n(out.ptr<float>(source[r]), cols, out.ptr<float>(r));
-    }
-  });
+  copyRepeatedRows(source, out, pool);
 }
 
 }  // namespace multimodal_nvs

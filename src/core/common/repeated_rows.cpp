@@ -41,4 +41,16 @@ std::vector<int> repeatedRowSources(const cv::Mat& in, int halo, ThreadPool& poo
   return source;
 }
 
+void copyRepeatedRows(const std::vector<int>& source, cv::Mat& out, ThreadPool& pool) {
+  const int rows = std::min(out.rows, static_cast<int>(source.size()));
+  const std::size_t row_bytes = out.cols * out.elemSize();
+  constexpr int kRowsPerTask = 64;
+  pool.parallelFor((rows + kRowsPerTask - 1) / kRowsPerTask, [&](long long t, int) {
+    const int r0 = static_cast<int>(t) * kRowsPerTask;
+    for (int r = r0; r < std::min(rows, r0 + kRowsPerTask); ++r) {
+      if (source[r] != r) std::memcpy(out.ptr(r), out.ptr(source[r]), row_bytes);
+    }
+  });
+}
+
 }  // namespace multimodal_nvs

@@ -1,7 +1,6 @@
 #include "multimodal_nvs/core/common/striped_filters.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <utility>
 #include <vector>
@@ -46,15 +45,16 @@ void byStripesWithContext(const cv::Mat& in, cv::Mat& out, int halo, int stripe_
   out.create(in.size(), in.type());
   // Stripes over the rows to compute: each maximal run of such rows cut into pieces of about
   // stripe_rows.
+  const auto computed = [&](int r) { return source == nullptr || (*source)[r] == r; };
   std::vector<std::pair<int, int>> stripes;
   const int height = std::max(1, stripe_rows);
   for (int r = 0; r < rows;) {
-    if (source != nullptr && (*source)[r] != r) {
+    if (!computed(r)) {
       ++r;
       continue;
     }
     int end = r + 1;
-    while (end < rows && (source == nullptr || (*source)[end] == end))
+    while (end < rows && computed(end))
       ++end;
     const int pieces = std::max(1, (end - r) / height);
     for (int p = 0; p < pieces; ++p)
@@ -68,15 +68,7 @@ void byStripesWithContext(const cv::Mat& in, cv::Mat& out, int halo, int stripe_
     filter(in.rowRange(top, bottom), filtered);
     filtered.rowRange(r0 - top, r1 - top).copyTo(out.rowRange(r0, r1));
   });
-  if (source == nullptr) return;
-  const std::size_t row_bytes = out.cols * out.elemSize();
-  constexpr int kRowsPerTask = 64;
-  pool.parallelFor((rows + kRowsPerTask - 1) / kRowsPerTask, [&](long long t, int) {
-    const int r0 = static_cast<int>(t) * kRowsPerTask;
-    for (int r = r0; r < std::min(rows, r0 + kRowsPerTask); ++r) {
-      if ((*source)[r] != r) std::memcpy(out.ptr(r), out.ptr((*source)[r]), row_bytes);
-    }
-  });
+  if (source != nullptr) copyRepeatedRows(*source, out, pool);
 }
 
 }  // namespace

@@ -18,4 +18,7 @@ namespace multimodal_nvs {
 /// are ever copied, so the filter's border rule does not matter.
 std::vector<int> repeatedRowSources(const cv::Mat& in, int halo, ThreadPool& pool);
 
+/// Copies into each row r of `out` with source[r] != r the (already filtered) row source[r].
+void copyRepeatedRows(const std::vector<int>& source, cv::Mat& out, ThreadPool& pool);
+
 }  // namespace multimodal_nvs
