@@ -98,30 +98,4 @@ void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<dou
   }
 }
 
-void AngularBins::nearestAfter(double az, double el, int k,
-                               std::vector<std::pair<double, int>>& inout,
-                               double start_reach) const {
-  const auto unseeded = [&] { nearest(az, el, k, inout, start_reach); };
-  if (order_.empty() || k <= 0 || inout.size() != static_cast<std::size_t>(k)) return unseeded();
-  // The earlier answer's k samples lie within `bound` of (az, el), so the k nearest do too. The
-  // slack covers a different rounding of the same distance (contraction into an FMA may differ
-  // between the two expressions); it only widens the search.
-  double bound = 0.0;
-  for (const auto& earlier : inout) {
-    if (earlier.second < 0 || static_cast<std::size_t>(earlier.second) >= sample_az_.size()) {
-      return unseeded();  // not an answer over these samples
-    }
-    const double da = sample_az_[earlier.second] - az, de = sample_el_[earlier.second] - el;
-    bound = std::max(bound, da * da + de * de);
-  }
-  bound = bound * (1.0 + 1e-9) + 1e-12;
-  const double reach = std::sqrt(bound) * (1.0 + 1e-9);
-  // Far beyond the start reach the earlier answer was for a distant query (a new row): a disc that
-  // wide holds many samples, and the doubling search from start_reach is cheaper. Within twice it
-  // (a vote reused for a few pixels puts the last query several pixels back) the bound wins.
-  if (reach > 2.0 * start_reach) return unseeded();
-  collect(az, el, reach, static_cast<std::size_t>(k), bound, inout);
-  // Every sample within `bound` lies inside the disc, so the walk found at least the earlier k.
-}
-
 }  // namespace multimodal_nvs

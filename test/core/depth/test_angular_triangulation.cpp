@@ -1,8 +1,11 @@
-// The Delaunay triangulation of angular samples and the k-nearest search over angular bins, the two
-// geometric structures of ground_gp's dense mode and the linear baseline.
+// The Delaunay triangulation of angular samples, its rasterisation, and the k-nearest searches over
+// angular bins and gathered regions: the geometric structures of ground_gp's dense mode and the
+// linear baseline.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <utility>
@@ -15,6 +18,7 @@
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/angular_triangulation.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+#include "multimodal_nvs/core/depth/region_nearest.hpp"
 
 namespace mm = multimodal_nvs;
 
@@ -132,37 +136,103 @@ TEST(AngularBins, NearestEqualsABruteForceSearch) {
   }
 }
 
-TEST(AngularBins, NearestAfterAnEarlierAnswerEqualsNearest) {
+TEST(RegionNearest, AnswersEqualTheBinSearchEverywhereInTheRegion) {
   std::mt19937 random(11);
   auto az = kRandomAzimuth;
   auto el = kRandomElevation;
-  const std::vector<mm::AngularSample> samples = randomSamples(random);
+  std::vector<mm::AngularSample> samples = randomSamples(random);
+  // Ties: a few samples at the same angles (equal distances, decided by index).
+  for (int i = 0; i < 40; ++i)
+    samples.push_back(samples[i * 7]);
   const mm::AngularBins bins(samples, 0.15);
-  std::uniform_real_distribution<double> step(-0.1, 0.1);
-  for (int k : {1, 3, 8}) {
-    std::vector<std::pair<double, int>> seeded, exact;
-    double qaz = 0.0, qel = -5.0;
-    for (int q = 0; q < 600; ++q) {
-      // Mostly a walk of small steps (pixels of a row), sometimes a far jump, and now and then an
-      // earlier answer that is empty, too short, or from another set of samples (out of range).
-      if (q % 50 == 0) {
-        qaz = 1.2 * az(random);
-        qel = 1.2 * el(random);
+  const mm::AngularBins gather_bins(samples, 0.5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  mm::RegionNearest region;
+  std::vector<std::pair<double, int>> found, exact;
+  for (int r = 0; r < 60; ++r) {
+    const std::size_t k = 1 + r % 10;
+    const double caz = 1.1 * az(random), cel = 1.1 * el(random);
+    const double extent = 0.05 + 0.05 * (r % 9);
+    // Guesses far too small, about right and far too large: only the cost may differ.
+    const double guess = r % 3 == 0 ? 1e-3 : (r % 3 == 1 ? 0.3 : 20.0);
+    const double kth = region.gatherAround(gather_bins, caz, cel, extent, k, guess);
+    bins.nearest(caz, cel, static_cast<int>(k), exact);
+    ASSERT_EQ(exact.size(), k);
+    EXPECT_DOUBLE_EQ(kth * kth, exact.back().first) << "region " << r;
+    // A walk of neighbouring queries (each bounded by the previous answer) and jumps, all within
+    // the extent.
+    double qaz = caz, qel = cel;
+    for (int q = 0; q < 40; ++q) {
+      if (q % 10 == 0) {
+        qaz = caz + extent * unit(random) / std::sqrt(2.0);
+        qel = cel + extent * unit(random) / std::sqrt(2.0);
       } else {
-        qaz += step(random);
-        qel += 0.2 * step(random);
+        qaz = std::clamp(qaz + 0.01 * unit(random), caz - extent / 1.5, caz + extent / 1.5);
+        qel = std::clamp(qel + 0.01 * unit(random), cel - extent / 1.5, cel + extent / 1.5);
       }
-      if (q % 97 == 0) seeded.clear();
-      if (q % 89 == 0 && !seeded.empty()) seeded.pop_back();
-      if (q % 83 == 0 && !seeded.empty()) seeded.front().second = int(samples.size()) + 5;
-      // The earlier answer is used when its bound is within twice the start reach (8 nearest: ~1.2
-      // deg).
-      const double start_reach = q % 3 ? 3.0 : 0.0;
-      bins.nearestAfter(qaz, qel, k, seeded, start_reach);
-      bins.nearest(qaz, qel, k, exact);
-      ASSERT_EQ(seeded, exact) << "k " << k << " query " << q;
+      region.nearest(qaz, qel, k, found);
+      bins.nearest(qaz, qel, static_cast<int>(k), exact);
+      ASSERT_EQ(found, exact) << "region " << r << " query " << q;
     }
   }
+}
+
+TEST(RegionNearest, FewerSamplesThanKGathersThemAll) {
+  const std::vector<mm::AngularSample> samples = {
+      {0.0f, 0.0f, 5.0f}, {3.0f, 1.0f, 6.0f}, {-40.0f, 10.0f, 7.0f}};
+  const mm::AngularBins bins(samples, 0.5);
+  mm::RegionNearest region;
+  region.gatherAround(bins, 1.0, 0.0, 0.2, 8, 0.1);
+  EXPECT_EQ(region.size(), samples.size());
+  std::vector<std::pair<double, int>> found, exact;
+  region.nearest(1.1, 0.1, 8, found);
+  bins.nearest(1.1, 0.1, 8, exact);
+  EXPECT_EQ(found, exact);
+  EXPECT_EQ(found.size(), samples.size());
+  const mm::AngularBins none(std::vector<mm::AngularSample>{}, 0.5);
+  region.gatherAround(none, 0.0, 0.0, 0.2, 4, 0.1);
+  region.nearest(0.0, 0.0, 4, found);
+  EXPECT_TRUE(found.empty());
+}
+
+TEST(AngularTriangulation, BarycentricRowEqualsThePerPixelTest) {
+  // A triangle and a row of pixel angles across it, with a NaN angle (a pixel beyond a lens
+  // model's range): the row test gives each pixel the bits and the verdict of the scalar test.
+  mm::AngularTriangle t{};
+  const double az[3] = {-1.0, 2.5, 0.3}, el[3] = {-0.7, 0.1, 1.9};
+  for (int i = 0; i < 3; ++i) {
+    t.az[i] = az[i];
+    t.el[i] = el[i];
+  }
+  t.det = (t.az[1] - t.az[0]) * (t.el[2] - t.el[0]) - (t.az[2] - t.az[0]) * (t.el[1] - t.el[0]);
+  std::vector<float> row_az, row_el;
+  for (int i = 0; i < 37; ++i) {
+    row_az.push_back(-1.5f + 0.11f * float(i));
+    row_el.push_back(0.2f + 0.01f * float(i));
+  }
+  row_az[5] = std::numeric_limits<float>::quiet_NaN();
+  const int n = static_cast<int>(row_az.size());
+  std::vector<double> l1s(n), l2s(n);
+  std::vector<std::uint8_t> inside(n);
+  mm::barycentricRow(t, row_az.data(), row_el.data(), n, l1s.data(), l2s.data(), inside.data());
+  int inside_count = 0;
+  for (int i = 0; i < n; ++i) {
+    const double inv_det = 1.0 / t.det;
+    const double pa = double(row_az[i]) - t.az[0], pe = double(row_el[i]) - t.el[0];
+    const double l1 = (pa * (t.el[2] - t.el[0]) - (t.az[2] - t.az[0]) * pe) * inv_det;
+    const double l2 = ((t.az[1] - t.az[0]) * pe - pa * (t.el[1] - t.el[0])) * inv_det;
+    const double l0 = 1.0 - l1 - l2;
+    const bool expected = !(l0 < -1e-7 || l1 < -1e-7 || l2 < -1e-7);
+    EXPECT_EQ(bool(inside[i]), expected) << i;
+    if (!std::isnan(l1)) {
+      EXPECT_EQ(l1s[i], l1) << i;
+      EXPECT_EQ(l2s[i], l2) << i;
+    }
+    inside_count += inside[i] && !std::isnan(l1);
+  }
+  EXPECT_TRUE(inside[5]);      // NaN passes, as it does the scalar test
+  EXPECT_GT(inside_count, 5);  // the row crosses the triangle
+  EXPECT_LT(inside_count, n - 5);
 }
 
 }  // namespace

@@ -31,20 +31,18 @@ class AngularBins {
     }
   }
 
+  /// Samples binned.
+  std::size_t size() const { return order_.size(); }
+
+  /// Sample i's angles (degrees), as the queries compare them (RegionNearest gathers by them).
+  double sampleAzimuth(int i) const { return sample_az_[i]; }
+  double sampleElevation(int i) const { return sample_el_[i]; }
+
   /// The (at most) k samples nearest to (az, el), as (squared distance, index), nearest first
   /// (ties by index). `out` is cleared first. `start_reach` (degrees) is the first search radius:
   /// a neighbouring query's k-th distance makes one round enough.
   void nearest(double az, double el, int k, std::vector<std::pair<double, int>>& out,
                double start_reach = 0.0) const;
-
-  /// The same answer as nearest(), for a query next to an earlier one: `inout` holds on entry an
-  /// earlier answer (any indices of these samples; empty is allowed). Their distances to (az, el)
-  /// bound this query's k-th distance, which fixes the search radius and lets the walk skip every
-  /// farther sample without sorting it in: for runs of neighbouring queries (pixels of a row) the
-  /// sorting was most of nearest()'s cost. When that bound exceeds twice `start_reach` (the
-  /// earlier query was far away) it is nearest(az, el, k, inout, start_reach).
-  void nearestAfter(double az, double el, int k, std::vector<std::pair<double, int>>& inout,
-                    double start_reach) const;
 
  private:
   std::size_t binOf(const AngularSample& s) const;
@@ -67,7 +65,7 @@ class AngularBins {
   // The samples' angles in bin order (order_): nearest() reads them sequentially instead of
   // gathering AngularSample records from all over the scan (a 360-degree LiDAR sweep is megabytes).
   std::vector<float> binned_az_, binned_el_;
-  std::vector<float> sample_az_, sample_el_;  // by sample index (nearestAfter's earlier answer)
+  std::vector<float> sample_az_, sample_el_;  // by sample index
 };
 
 }  // namespace multimodal_nvs

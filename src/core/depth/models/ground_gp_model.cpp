@@ -29,6 +29,7 @@
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 #include "multimodal_nvs/core/depth/models/tiled_local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+#include "multimodal_nvs/core/depth/region_nearest.hpp"
 
 namespace multimodal_nvs {
 namespace {
@@ -209,13 +210,6 @@ namespace {
 
 // A gap in the triangulation, as in the sparse mode: lattice step of the nearest-sample fallback.
 constexpr int kFallbackStepPx = 16;
-// Bin side of the k-nearest search (affects only speed): a full LiDAR scan's returns are ~0.1-0.4
-// deg apart, so a search box holds few bins' worth of samples (0.5 deg: 2x slower on VoD 00549).
-// One int per bin: a 360 x 40 deg sweep takes 640k bins.
-constexpr double kDenseBinDeg = 0.15;
-// Margin of the k-nearest search over the previous pixel's k-th distance: about two pixel steps of
-// a VoD-like camera (0.038 deg per pixel); larger steps cost a second round, not a wrong answer.
-constexpr double kVoteReachStepDeg = 0.08;
 // A sample at the pixel's own direction must not take infinite weight in the edge vote:
 // (0.01 deg)^2, far below any sample spacing.
 constexpr double kVoteDistanceFloorDeg2 = 1e-4;
@@ -231,6 +225,94 @@ struct VoteMemory {
   int winner = 0;
   int reuses_left = 0;
 };
+// Bin side of the bins that gather the vote's candidates (affects only speed): a gather disc is
+// ~1 deg wide on a full LiDAR scan (returns ~0.1-0.4 deg apart), so it walks a few dozen bins.
+// One int per bin: a 360 x 40 deg sweep takes 58k bins.
+constexpr double kVoteBinDeg = 0.5;
+// A triangle at most this far (degrees) from its centroid to a vertex gathers its vote candidates
+// once; a larger one (a sliver bridging a gap, a hull triangle) gathers them per tile of its
+// pixels, since one disc around it would hold hundreds of samples for each of its pixels to scan.
+constexpr double kWholeTriangleRegionDeg = 0.3;
+// The tile: 4 rows x 16 columns of the grid, ~0.5 x 0.15 deg on a VoD-like camera.
+constexpr int kTileRows = 4;
+constexpr int kTileCols = 16;
+
+/// A gathered region of vote candidates and what it was gathered for.
+struct VoteRegion {
+  unsigned long long frame = 0;  // of this call (a triangle's address may recur in another)
+  const AngularTriangle* triangle = nullptr;
+  int tile_row = -1;  // the tile's row block; -1 for the whole triangle
+  bool per_tile = false;
+  RegionNearest candidates;
+};
+
+/// Gathers into `region` the samples that can be among the k nearest of any point within `extent`
+/// of (az, el). The first bound on the centre's k-th distance is the previous region's (regions of
+/// one thread are neighbours), a little widened so that one gather usually suffices.
+void gatherVoteRegion(double az, double el, double extent, int k, const AngularBins& bins,
+                      RegionNearest& region) {
+  constexpr double kGuessWidening = 1.25;
+  thread_local double guess = 0.0;
+  guess = kGuessWidening *
+          region.gatherAround(bins, az, el, extent, static_cast<std::size_t>(k), guess);
+}
+
+/// The k samples nearest to the pixel (az, el) of triangle `t`, as AngularBins::nearest() gives
+/// them. The edge vote asks for them at most pixels of an edge triangle, so each rasterising thread
+/// gathers the samples that can be among its pixels' k nearest once per triangle, or once per tile
+/// of a large triangle's pixels (RegionNearest), and answers each pixel from those: one bin walk
+/// per pixel was the largest cost of the dense mode.
+void voteNeighbours(const AngularTriangle& t, unsigned long long frame, std::size_t pixel, float az,
+                    float el, int k, const AngularBins& bins, const PixelAngleGrid& angles,
+                    std::vector<std::pair<double, int>>& nearest) {
+  thread_local VoteRegion whole;
+  thread_local std::vector<VoteRegion> tiles;  // by tile column
+  if (whole.frame != frame || whole.triangle != &t) {
+    whole.frame = frame;
+    whole.triangle = &t;
+    const double caz = (t.az[0] + t.az[1] + t.az[2]) / 3.0;
+    const double cel = (t.el[0] + t.el[1] + t.el[2]) / 3.0;
+    double extent = 0.0;
+    for (int i = 0; i < 3; ++i)
+      extent = std::max(extent, std::hypot(t.az[i] - caz, t.el[i] - cel));
+    whole.per_tile = extent > kWholeTriangleRegionDeg;
+    if (!whole.per_tile) gatherVoteRegion(caz, cel, extent, k, bins, whole.candidates);
+  }
+  if (!whole.per_tile) {
+    whole.candidates.nearest(az, el, static_cast<std::size_t>(k), nearest);
+    return;
+  }
+  const int rows = angles.grid().rows(), cols = angles.grid().cols();
+  const int r = static_cast<int>(pixel / static_cast<std::size_t>(cols));
+  const int c = static_cast<int>(pixel % static_cast<std::size_t>(cols));
+  tiles.resize(static_cast<std::size_t>(cols / kTileCols + 1));
+  VoteRegion& tile = tiles[c / kTileCols];
+  if (tile.frame != frame || tile.triangle != &t || tile.tile_row != r / kTileRows) {
+    tile.frame = frame;
+    tile.triangle = &t;
+    tile.tile_row = r / kTileRows;
+    // The tile's angular box from its pixels' own angles (any camera model).
+    const int r0 = tile.tile_row * kTileRows, r1 = std::min(rows, r0 + kTileRows);
+    const int c0 = c / kTileCols * kTileCols, c1 = std::min(cols, c0 + kTileCols);
+    float az0 = az, az1 = az, el0 = el, el1 = el;
+    for (int rr = r0; rr < r1; ++rr) {
+      const float* row_az = angles.azimuthRow(rr);
+      const float* row_el = angles.elevationRow(rr);
+      for (int cc = c0; cc < c1; ++cc) {
+        // Written so that a NaN angle (beyond a lens model's range) is skipped.
+        if (row_az[cc] < az0) az0 = row_az[cc];
+        if (row_az[cc] > az1) az1 = row_az[cc];
+        if (row_el[cc] < el0) el0 = row_el[cc];
+        if (row_el[cc] > el1) el1 = row_el[cc];
+      }
+    }
+    const double half_az = 0.5 * (double(az1) - az0), half_el = 0.5 * (double(el1) - el0);
+    gatherVoteRegion(az0 + half_az, el0 + half_el, std::hypot(half_az, half_el), k, bins,
+                     tile.candidates);
+  }
+  tile.candidates.nearest(az, el, static_cast<std::size_t>(k), nearest);
+}
+
 // Half-width of a column's band of returns for the upward extension, in mean sample spacings.
 constexpr double kColumnBandSpacings = 0.5;
 // A triangle with an edge longer than this many mean sample spacings bridges a region without
@@ -418,7 +500,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   if (!overlap) triangles = triangulateSamples(samples, angles);
   // Occlusion edges are decided by the pixel's surface_k nearest samples (any triangle).
   const std::vector<AngularSample> usable = usableSamples(samples);
-  const AngularBins bins(usable, kDenseBinDeg);
+  const AngularBins bins(usable, kVoteBinDeg);
   // The nearest return's lattice for the gaps (outside the samples' hull): computed here while the
   // triangulation runs, else below only when there are gaps. A LiDAR image nearly always has them
   // (more than half of it lies above the highest ring).
@@ -487,15 +569,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
           } else {
             j = nearestVertex(t, az, el);
             thread_local std::vector<std::pair<double, int>> nearest;
-            // Edge pixels come in runs along a row: the previous query's answer bounds this one's
-            // k-th distance (its k samples are at most one pixel step farther), so one round of
-            // the bin walk suffices and it sorts in only the samples within that bound; after a
-            // far jump (a new row) the search starts from the previous k-th distance plus a step
-            // and widens itself.
-            thread_local double previous_kth_deg = 0.0;
-            bins.nearestAfter(az, el, g.surface_k, nearest, previous_kth_deg);
-            if (!nearest.empty())
-              previous_kth_deg = std::sqrt(nearest.back().first) + kVoteReachStepDeg;
+            voteNeighbours(t, frame, pixel, az, el, g.surface_k, bins, angles, nearest);
             double support[3] = {0.0, 0.0, 0.0};
             double best = 0.0;
             for (int i = 0; i < 3; ++i) {
