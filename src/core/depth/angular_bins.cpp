@@ -54,15 +54,8 @@ void AngularBins::collect(double az, double el, double reach, std::size_t k, dou
   // (a square walk visits 4/pi times the samples). Samples outside the disc are farther than
   // reach, and the caller accepts the result only if the k-th distance is within reach, so
   // skipping them changes nothing.
-  const auto [y0, y1] = binSpan(el - reach, el + reach, min_el_, ny_);
-  for (int y = y0; y <= y1; ++y) {
-    const double row_lo = min_el_ + y * bin_, row_hi = row_lo + bin_;
-    const double dy = el < row_lo ? row_lo - el : (el > row_hi ? el - row_hi : 0.0);
-    const double half = std::sqrt(std::max(0.0, reach * reach - dy * dy));
-    const auto [x0, x1] = binSpan(az - half, az + half, min_az_, nx_);
-    if (x0 > x1) continue;
-    const std::size_t row = std::size_t(y) * nx_;
-    for (int b = start_[row + x0]; b < start_[row + x1 + 1]; ++b) {
+  forEachDiscRow(az, el, reach, [&](int begin, int end) {
+    for (int b = begin; b < end; ++b) {
       const double da = binned_az_[b] - az, de = binned_el_[b] - el;
       const std::pair<double, int> candidate(da * da + de * de, order_[b]);
       if (candidate.first > bound) continue;
@@ -75,7 +68,7 @@ void AngularBins::collect(double az, double el, double reach, std::size_t k, dou
       for (std::size_t i = out.size() - 1; i > 0 && out[i] < out[i - 1]; --i)
         std::swap(out[i], out[i - 1]);
     }
-  }
+  });
 }
 
 void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<double, int>>& out,

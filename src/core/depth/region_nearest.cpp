@@ -19,7 +19,7 @@ void RegionNearest::gather(const AngularBins& bins, double az, double el, double
   index_.clear();
   last_.clear();
   const double radius2 = radius * radius;
-  bins.query(az, el, radius, [&](int i) {
+  bins.queryDisc(az, el, radius, [&](int i) {
     const double sa = bins.sampleAzimuth(i), se = bins.sampleElevation(i);
     const double da = sa - az, de = se - el;
     const double d2 = da * da + de * de;

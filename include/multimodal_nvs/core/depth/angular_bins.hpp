@@ -38,6 +38,18 @@ class AngularBins {
   double sampleAzimuth(int i) const { return sample_az_[i]; }
   double sampleElevation(int i) const { return sample_el_[i]; }
 
+  /// Calls visit(sample_index) for every sample in the bins that intersect the disc of radius
+  /// `reach` around (az, el): each bin row is walked only across the disc's chord at the row's
+  /// nearest elevation (a square walk visits 4/pi times the area). The caller applies the exact
+  /// distance test.
+  template <typename Visit>
+  void queryDisc(double az, double el, double reach, Visit&& visit) const {
+    forEachDiscRow(az, el, reach, [&](int begin, int end) {
+      for (int k = begin; k < end; ++k)
+        visit(order_[k]);
+    });
+  }
+
   /// The (at most) k samples nearest to (az, el), as (squared distance, index), nearest first
   /// (ties by index). `out` is cleared first. `start_reach` (degrees) is the first search radius:
   /// a neighbouring query's k-th distance makes one round enough.
@@ -50,6 +62,23 @@ class AngularBins {
   /// pairs among the samples at squared distance <= `bound`, nearest first, into `out`.
   void collect(double az, double el, double reach, std::size_t k, double bound,
                std::vector<std::pair<double, int>>& out) const;
+  /// Calls row(begin, end) with the range of positions in order_ of each bin row's part that meets
+  /// the disc of radius `reach` around (az, el): the row is walked only across the disc's chord at
+  /// its nearest elevation to the centre.
+  template <typename Row>
+  void forEachDiscRow(double az, double el, double reach, Row&& row) const {
+    if (order_.empty()) return;
+    const auto [y0, y1] = binSpan(el - reach, el + reach, min_el_, ny_);
+    for (int y = y0; y <= y1; ++y) {
+      const double row_lo = min_el_ + y * bin_, row_hi = row_lo + bin_;
+      const double dy = el < row_lo ? row_lo - el : (el > row_hi ? el - row_hi : 0.0);
+      const double half = std::sqrt(std::max(0.0, reach * reach - dy * dy));
+      const auto [x0, x1] = binSpan(az - half, az + half, min_az_, nx_);
+      if (x0 > x1) continue;
+      const std::size_t first = std::size_t(y) * nx_;
+      row(start_[first + x0], start_[first + x1 + 1]);
+    }
+  }
   /// The bins [first, last] along one axis (bins of side bin_ from `origin`, `count` of them) that
   /// meet the interval [lo, hi]; first > last when none does.
   std::pair<int, int> binSpan(double lo, double hi, double origin, int count) const {
