@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <system_error>
 #include <utility>
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
@@ -237,6 +238,22 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
   }
 
   return triangles;
+}
+
+BackgroundTriangulation::BackgroundTriangulation(const std::vector<AngularSample>& samples,
+                                                 const PixelAngleGrid& angles, bool start)
+    : samples_(samples), angles_(angles) {
+  if (!start) return;
+  try {
+    triangles_ =
+        std::async(std::launch::async, [this] { return triangulateSamples(samples_, angles_); });
+  } catch (const std::system_error&) {
+    // No thread to be had: get() triangulates in the caller's thread.
+  }
+}
+
+std::vector<AngularTriangle> BackgroundTriangulation::get() {
+  return started() ? triangles_.get() : triangulateSamples(samples_, angles_);
 }
 
 }  // namespace multimodal_nvs

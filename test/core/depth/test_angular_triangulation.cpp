@@ -93,6 +93,30 @@ TEST(AngularTriangulation, ARepeatedDirectionKeepsItsNearestReturn) {
   EXPECT_GE(seen, 3);  // an interior vertex belongs to several triangles
 }
 
+TEST(AngularTriangulation, InTheBackgroundOrInOrderTheSameTriangles) {
+  std::vector<mm::AngularSample> samples = latticeSamples(3.0f, 10.0f);
+  for (std::size_t i = 0; i < samples.size(); i += 3)
+    samples[i].depth = 4.0f + 0.01f * float(i);
+  const mm::PixelAngleGrid angles(kCamera, kGrid);
+  const std::vector<mm::AngularTriangle> expected = mm::triangulateSamples(samples, angles);
+  ASSERT_GT(expected.size(), 100u);
+  for (bool start : {true, false}) {
+    mm::BackgroundTriangulation triangulation(samples, angles, start);
+    EXPECT_EQ(triangulation.started(), start);
+    const std::vector<mm::AngularTriangle> triangles = triangulation.get();
+    ASSERT_EQ(triangles.size(), expected.size());
+    for (std::size_t i = 0; i < triangles.size(); ++i) {
+      for (int j = 0; j < 3; ++j) {
+        EXPECT_EQ(triangles[i].az[j], expected[i].az[j]);
+        EXPECT_EQ(triangles[i].el[j], expected[i].el[j]);
+        EXPECT_EQ(triangles[i].z[j], expected[i].z[j]);
+      }
+      EXPECT_EQ(triangles[i].row0, expected[i].row0);
+      EXPECT_EQ(triangles[i].col1, expected[i].col1);
+    }
+  }
+}
+
 TEST(AngularTriangulation, FewerThanThreeSamplesGiveNoTriangle) {
   const mm::PixelAngleGrid angles(kCamera, kGrid);
   EXPECT_TRUE(mm::triangulateSamples({{0.0f, 0.0f, 5.0f}, {1.0f, 0.0f, 5.0f}}, angles).empty());

@@ -3,6 +3,7 @@
 // grid: shared by the `linear` baseline and the dense-input mode of `ground_gp`.
 #include <algorithm>
 #include <cstdint>
+#include <future>
 #include <vector>
 
 #include "multimodal_nvs/core/common/thread_pool.hpp"
@@ -26,6 +27,25 @@ struct AngularTriangle {
 /// missing the grid are dropped. Fewer than three samples: no triangle.
 std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>& samples,
                                                 const PixelAngleGrid& angles);
+
+/// triangulateSamples() on a thread of its own, started as early as the samples exist, so that the
+/// serial triangulation (CGAL) overlaps whatever the caller does before it needs the triangles.
+/// Without a thread to be had (a process at its limit), or when not asked to start early, get()
+/// triangulates in the calling thread: the same triangles either way.
+class BackgroundTriangulation {
+ public:
+  BackgroundTriangulation(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                          bool start);
+  /// Whether the triangulation runs on its own thread.
+  bool started() const { return triangles_.valid(); }
+  /// The triangles (waits for the thread). Call once.
+  std::vector<AngularTriangle> get();
+
+ private:
+  const std::vector<AngularSample>& samples_;
+  const PixelAngleGrid& angles_;
+  std::future<std::vector<AngularTriangle>> triangles_;
+};
 
 /// The barycentric coordinates l1, l2 (l0 = 1 - l1 - l2) of n pixels with angles (az, el) in
 /// triangle t, and whether each is inside it: no coordinate below -1e-7 (a NaN coordinate counts

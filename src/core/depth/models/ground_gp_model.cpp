@@ -475,29 +475,19 @@ bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAn
 void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                           const DepthCompletionParams& params, const GroundPlane& plane,
                           double median_depth, ThreadPool& pool, PixelPredictions& out,
-                          ModelScratch& scratch) {
+                          ModelScratch& scratch, BackgroundTriangulation& triangulation) {
   const GroundPriorParams& g = params.ground;
   const std::size_t n = static_cast<std::size_t>(angles.grid().size());
   // No fill: every pixel is written below, inside a triangle by the rasteriser, else by the gap
   // pass.
   out.mean.resize(n);
   out.variance.resize(n);
-  // The triangulation (CGAL, serial: ~40 ms of a VoD HDL-64 frame) runs on its own thread while
-  // the pool builds what does not depend on it: the k-nearest bins and the gap fill's lattice.
-  // Why: on one thread it left the second core idle for a sixth of the frame. With a pool of one
-  // thread the caller asked for one thread, and everything runs in order.
-  bool overlap = pool.size() > 1;
-  std::future<std::vector<AngularTriangle>> triangulation;
-  std::vector<AngularTriangle> triangles;
-  if (overlap) {
-    try {
-      triangulation =
-          std::async(std::launch::async, [&] { return triangulateSamples(samples, angles); });
-    } catch (const std::system_error&) {
-      overlap = false;  // no thread to be had (a process at its limit): the same work in order
-    }
-  }
-  if (!overlap) triangles = triangulateSamples(samples, angles);
+  // The triangulation (CGAL, serial: ~20 ms of a VoD HDL-64 frame) runs on its own thread, started
+  // by the caller before the ground plane's fit, while the pool builds what does not depend on it:
+  // the vote's bins and the gap fill's lattice. Why: in order it left the second core idle for a
+  // fifth of the frame. With a pool of one thread the caller asked for one thread, and everything
+  // runs in order.
+  const bool overlap = triangulation.started();
   // Occlusion edges are decided by the pixel's surface_k nearest samples (any triangle).
   const std::vector<AngularSample> usable = usableSamples(samples);
   const AngularBins bins(usable, kVoteBinDeg);
@@ -507,7 +497,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   const int step = std::max(1, kFallbackStepPx / angles.grid().stride);
   std::optional<NearestSurfaceRows> gap_lattice;
   if (overlap) gap_lattice.emplace(nearestSurfaceRows(samples, angles, 1, 1, step, pool));
-  if (overlap) triangles = triangulation.get();
+  std::vector<AngularTriangle> triangles = triangulation.get();
   std::vector<DenseVertexInfo> info(triangles.size());
   const double ratio = 1.0 + g.dense_edge_ratio;
   const double rel2 = g.dense_relative_sigma * g.dense_relative_sigma;

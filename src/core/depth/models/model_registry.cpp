@@ -39,6 +39,14 @@ BaselineModel baselineModel(DepthModel model) {
   return nullptr;
 }
 
+/// The median depth of the samples (ground_gp's far value): the shift itself when that is the
+/// median (the default), so the samples are not sorted twice per frame.
+double medianDepth(const std::vector<AngularSample>& samples, const DepthCompletionParams& params,
+                   double shift) {
+  return params.shift.mode == DepthShift::Mode::kMedian ? shift
+                                                        : computeShift(DepthShift{}, samples);
+}
+
 }  // namespace
 
 bool groundGpUsesTiles(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
@@ -61,6 +69,14 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
   }
   // Both models that stand on the ground take its plane (and ground_gp its mode) from the returns
   // when they allow it, else from the pose or the parameters.
+  // ground_gp on LiDAR triangulates its returns: the serial triangulation starts now, on its own
+  // thread, and overlaps the ground plane's fit. Only when dense input is asked for: in the auto
+  // mode the fit decides, and a radar scan would not need the triangles.
+  using Input = GroundPriorParams::Input;
+  BackgroundTriangulation triangulation(samples, angles,
+                                        params.model == DepthModel::kGroundGp &&
+                                            params.ground.input == Input::kDense &&
+                                            pool.size() > 1);
   GroundChoice choice;
   if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
     choice = chooseGround(samples, angles, params);
@@ -73,8 +89,8 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
   if (params.model == DepthModel::kGroundGp && choice.dense) {
     // Dense input needs no neighbour sets: the interpolating prior is the prediction.
     ModelScratch local;
-    predictGroundGpDense(samples, angles, params, choice.plane, computeShift(DepthShift{}, samples),
-                         pool, out, scratch != nullptr ? *scratch : local);
+    predictGroundGpDense(samples, angles, params, choice.plane, medianDepth(samples, params, shift),
+                         pool, out, scratch != nullptr ? *scratch : local, triangulation);
     return 0;
   }
   if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
@@ -85,8 +101,8 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     if (ground) ground->tiled_residual = true;
     DepthCompletionParams tiled = params;
     if (tiled.max_neighbors == 0) tiled.max_neighbors = kAutoMaxNeighbors;
-    const double median = computeShift(DepthShift{}, samples);
-    predictGroundGp(samples, angles, nullptr, tiled, choice.plane, median, pool, out);
+    predictGroundGp(samples, angles, nullptr, tiled, choice.plane,
+                    medianDepth(samples, params, shift), pool, out);
     return 0;
   }
   const NeighbourSets sets =
@@ -94,8 +110,8 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
   if (params.model == DepthModel::kLocalGpMle) {
     predictLocalGp(samples, angles, sets, params, shift, pool, out);
   } else if (params.model == DepthModel::kGroundGp) {
-    const double median = computeShift(DepthShift{}, samples);
-    predictGroundGp(samples, angles, &sets, params, choice.plane, median, pool, out);
+    predictGroundGp(samples, angles, &sets, params, choice.plane,
+                    medianDepth(samples, params, shift), pool, out);
   } else {
     predictKernel(samples, angles, sets, params, shift, pool, out);
   }

@@ -3,6 +3,7 @@
 #include <vector>
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/angular_triangulation.hpp"
 #include "multimodal_nvs/core/depth/depth_params.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 #include "multimodal_nvs/core/depth/neighbour_sets.hpp"
@@ -21,12 +22,12 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
 
 /// `ground_gp` on dense input (ground_gp_model.cpp): the prior is the edge-aware interpolation of
 /// inverse depth on the Delaunay triangulation of the samples; no residual GP (the prior already
-/// passes through every sample, so the GP's posterior mean would equal it). Work buffers in
-/// `scratch`.
+/// passes through every sample, so the GP's posterior mean would equal it). `triangulation` is
+/// the samples' (the caller may have started it early). Work buffers in `scratch`.
 void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                           const DepthCompletionParams& params, const GroundPlane& plane,
                           double median_depth, ThreadPool& pool, PixelPredictions& out,
-                          ModelScratch& scratch);
+                          ModelScratch& scratch, BackgroundTriangulation& triangulation);
 
 /// Whether `ground_gp` runs its dense-input mode: params.ground.input, or for auto whether the mean
 /// angular spacing sqrt(view area / samples in view) is at most half of params.radius_deg.
