@@ -367,17 +367,42 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
     double u, v;  // grid coordinates
     float z;
   };
+  // The returns that project into the grid's columns (or just beside them) and not below it. Two
+  // tangents and a cosine per return were ~5 ms of serial work on a 360-degree HDL-64 sweep: the
+  // returns are projected in chunks on the pool (kept in order), and through a pinhole lens a
+  // return's column depends on its azimuth alone, so returns far outside the columns' azimuths
+  // are skipped before any tangent (with a margin: the exact test below decides).
+  double az_lo = -90.0, az_hi = 90.0;
+  if (!k.distortion.any()) {
+    constexpr double kMarginDeg = 1e-3;
+    az_lo = std::atan((-1.0 * grid.stride - k.cx) / k.fx) * 180.0 / M_PI - kMarginDeg;
+    az_hi = std::atan((double(cols) * grid.stride - k.cx) / k.fx) * 180.0 / M_PI + kMarginDeg;
+  }
+  constexpr std::size_t kChunk = 8192;
+  const std::size_t chunks = (usable.size() + kChunk - 1) / kChunk;
+  std::vector<std::vector<Projected>> parts(chunks);
+  pool.parallelFor(static_cast<long long>(chunks), [&](long long part, int) {
+    const std::size_t begin = std::size_t(part) * kChunk;
+    const std::size_t end = std::min(usable.size(), begin + kChunk);
+    for (std::size_t i = begin; i < end; ++i) {
+      const AngularSample& s = usable[i];
+      if (!(s.azimuth_deg >= az_lo && s.azimuth_deg <= az_hi)) continue;
+      double u = 0, v = 0;
+      if (!angularToPixel(k, s.azimuth_deg, s.elevation_deg, &u, &v)) continue;
+      u /= grid.stride;
+      v /= grid.stride;
+      if (u < -1.0 || u > cols || v > rows) continue;
+      parts[part].push_back({u, v, s.depth});
+    }
+  });
   std::vector<Projected> projected;
   double v0 = INFINITY, v1 = -INFINITY;
-  for (const AngularSample& s : usable) {
-    double u = 0, v = 0;
-    if (!angularToPixel(k, s.azimuth_deg, s.elevation_deg, &u, &v)) continue;
-    u /= grid.stride;
-    v /= grid.stride;
-    if (u < -1.0 || u > cols || v > rows) continue;
-    projected.push_back({u, v, s.depth});
-    v0 = std::min(v0, v);
-    v1 = std::max(v1, v);
+  for (const std::vector<Projected>& part : parts) {
+    for (const Projected& q : part) {
+      projected.push_back(q);
+      v0 = std::min(v0, q.v);
+      v1 = std::max(v1, q.v);
+    }
   }
   if (projected.empty()) return;
   // A column's returns: those within half the mean sample spacing (grid pixels) of it, so that
