@@ -585,14 +585,18 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
             j = nearestVertex(t, az, el);
             thread_local std::vector<std::pair<double, int>> nearest;
             voteNeighbours(t, frame, pixel, az, el, g.surface_k, bins, angles, nearest);
+            // Each neighbour's weight and depth once (not once per vertex); each support still
+            // sums its neighbours nearest first.
             double support[3] = {0.0, 0.0, 0.0};
+            for (const auto& nn : nearest) {
+              const double weight = 1.0 / (nn.first + kVoteDistanceFloorDeg2);
+              const double depth = usable[nn.second].depth;
+              for (int i = 0; i < 3; ++i) {
+                if (depthsWithinRatio(depth, t.z[i], ratio)) support[i] += weight;
+              }
+            }
             double best = 0.0;
             for (int i = 0; i < 3; ++i) {
-              for (const auto& nn : nearest) {
-                if (depthsWithinRatio(usable[nn.second].depth, t.z[i], ratio)) {
-                  support[i] += 1.0 / (nn.first + kVoteDistanceFloorDeg2);
-                }
-              }
               if (support[i] > best) {
                 best = support[i];
                 j = i;
