@@ -229,21 +229,17 @@ struct VoteMemory {
 // ~1 deg wide on a full LiDAR scan (returns ~0.1-0.4 deg apart), so it walks a few dozen bins.
 // One int per bin: a 360 x 40 deg sweep takes 58k bins.
 constexpr double kVoteBinDeg = 0.5;
-// A triangle at most this far (degrees) from its centroid to a vertex gathers its vote candidates
-// once; a larger one (a sliver bridging a gap, a hull triangle) gathers them per tile of its
-// pixels, since one disc around it would hold hundreds of samples for each of its pixels to scan.
-constexpr double kWholeTriangleRegionDeg = 0.3;
-// The tile: 8 x 8 grid pixels, ~0.27 deg square on a VoD-like camera (4 x 16, 8 x 16, 16 x 16
-// and 16 x 8 were as fast or up to 10 % slower on VoD 00549).
+// The vote's regions: tiles of 8 x 8 grid pixels, ~0.27 deg square on a VoD-like camera. One
+// gather serves every edge pixel of the tile, whichever triangle it lies in (per triangle, or per
+// tile of each large triangle, a tile was gathered again for each triangle crossing it). 4 x 16,
+// 8 x 16, 16 x 16 and 16 x 8 tiles were as fast or up to 10 % slower on VoD 00549.
 constexpr int kTileRows = 8;
 constexpr int kTileCols = 8;
 
-/// A gathered region of vote candidates and what it was gathered for.
+/// A gathered tile of vote candidates and which tile of which call it is.
 struct VoteRegion {
-  unsigned long long frame = 0;  // of this call (a triangle's address may recur in another)
-  const AngularTriangle* triangle = nullptr;
-  int tile_row = -1;  // the tile's row block; -1 for the whole triangle
-  bool per_tile = false;
+  unsigned long long frame = 0;  // of this call
+  int tile_row = -1;
   RegionNearest candidates;
 };
 
@@ -258,42 +254,28 @@ void gatherVoteRegion(double az, double el, double extent, int k, const AngularB
           region.gatherAround(bins, az, el, extent, static_cast<std::size_t>(k), guess);
 }
 
-/// The k samples nearest to the pixel (az, el) of triangle `t`, as AngularBins::nearest() gives
-/// them. The edge vote asks for them at most pixels of an edge triangle, so each rasterising thread
-/// gathers the samples that can be among its pixels' k nearest once per triangle, or once per tile
-/// of a large triangle's pixels (RegionNearest), and answers each pixel from those: one bin walk
-/// per pixel was the largest cost of the dense mode.
-void voteNeighbours(const AngularTriangle& t, unsigned long long frame, std::size_t pixel, float az,
-                    float el, int k, const AngularBins& bins, const PixelAngleGrid& angles,
+/// The k samples nearest to the pixel (az, el), as AngularBins::nearest() gives them. The edge
+/// vote asks for them at most pixels of an edge triangle, so each rasterising thread gathers the
+/// samples that can be among any of a tile's pixels' k nearest once per tile (RegionNearest) and
+/// answers each pixel from those: one bin walk per pixel was the largest cost of the dense mode.
+void voteNeighbours(unsigned long long frame, std::size_t pixel, float az, float el, int k,
+                    const AngularBins& bins, const PixelAngleGrid& angles,
                     std::vector<std::pair<double, int>>& nearest) {
-  thread_local VoteRegion whole;
-  thread_local std::vector<VoteRegion> tiles;  // by tile column
-  if (whole.frame != frame || whole.triangle != &t) {
-    whole.frame = frame;
-    whole.triangle = &t;
-    const double caz = (t.az[0] + t.az[1] + t.az[2]) / 3.0;
-    const double cel = (t.el[0] + t.el[1] + t.el[2]) / 3.0;
-    double extent = 0.0;
-    for (int i = 0; i < 3; ++i)
-      extent = std::max(extent, std::hypot(t.az[i] - caz, t.el[i] - cel));
-    whole.per_tile = extent > kWholeTriangleRegionDeg;
-    if (!whole.per_tile) gatherVoteRegion(caz, cel, extent, k, bins, whole.candidates);
-  }
-  if (!whole.per_tile) {
-    whole.candidates.nearest(az, el, static_cast<std::size_t>(k), nearest);
-    return;
-  }
+  // Slots by (tile row modulo 2, tile column): a band of the rasteriser (16 rows) holds two tile
+  // rows, and its triangles alternate between them row by row.
+  thread_local std::vector<VoteRegion> tiles;
   const int rows = angles.grid().rows(), cols = angles.grid().cols();
   const int r = static_cast<int>(pixel / static_cast<std::size_t>(cols));
   const int c = static_cast<int>(pixel % static_cast<std::size_t>(cols));
-  tiles.resize(static_cast<std::size_t>(cols / kTileCols + 1));
-  VoteRegion& tile = tiles[c / kTileCols];
-  if (tile.frame != frame || tile.triangle != &t || tile.tile_row != r / kTileRows) {
+  const int tile_cols = (cols + kTileCols - 1) / kTileCols;
+  tiles.resize(2 * static_cast<std::size_t>(tile_cols));
+  const int tile_row = r / kTileRows;
+  VoteRegion& tile = tiles[std::size_t(tile_row % 2) * tile_cols + c / kTileCols];
+  if (tile.frame != frame || tile.tile_row != tile_row) {
     tile.frame = frame;
-    tile.triangle = &t;
-    tile.tile_row = r / kTileRows;
+    tile.tile_row = tile_row;
     // The tile's angular box from its pixels' own angles (any camera model).
-    const int r0 = tile.tile_row * kTileRows, r1 = std::min(rows, r0 + kTileRows);
+    const int r0 = tile_row * kTileRows, r1 = std::min(rows, r0 + kTileRows);
     const int c0 = c / kTileCols * kTileCols, c1 = std::min(cols, c0 + kTileCols);
     float az0 = az, az1 = az, el0 = el, el1 = el;
     for (int rr = r0; rr < r1; ++rr) {
@@ -585,7 +567,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
           } else {
             j = nearestVertex(t, az, el);
             thread_local std::vector<std::pair<double, int>> nearest;
-            voteNeighbours(t, frame, pixel, az, el, g.surface_k, bins, angles, nearest);
+            voteNeighbours(frame, pixel, az, el, g.surface_k, bins, angles, nearest);
             // Each neighbour's weight and depth once (not once per vertex); each support still
             // sums its neighbours nearest first.
             double support[3] = {0.0, 0.0, 0.0};
