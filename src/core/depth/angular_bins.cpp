@@ -24,12 +24,6 @@ AngularBins::AngularBins(const std::vector<AngularSample>& samples, double bin_d
   std::vector<int> fill(start_.begin(), start_.end() - 1);
   for (std::size_t i = 0; i < samples.size(); ++i)
     order_[fill[binOf(samples[i])]++] = int(i);
-  sample_az_.resize(samples.size());
-  sample_el_.resize(samples.size());
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    sample_az_[i] = samples[i].azimuth_deg;
-    sample_el_[i] = samples[i].elevation_deg;
-  }
   binned_az_.resize(order_.size());
   binned_el_.resize(order_.size());
   for (std::size_t k = 0; k < order_.size(); ++k) {

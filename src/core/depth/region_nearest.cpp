@@ -19,8 +19,8 @@ void RegionNearest::gather(const AngularBins& bins, double az, double el, double
   index_.clear();
   last_.clear();
   const double radius2 = radius * radius;
-  bins.queryDisc(az, el, radius, [&](int i) {
-    const double sa = bins.sampleAzimuth(i), se = bins.sampleElevation(i);
+  bins.queryDisc(az, el, radius, [&](int i, float sample_az, float sample_el) {
+    const double sa = sample_az, se = sample_el;
     const double da = sa - az, de = se - el;
     const double d2 = da * da + de * de;
     if (d2 > radius2) return;

@@ -34,19 +34,15 @@ class AngularBins {
   /// Samples binned.
   std::size_t size() const { return order_.size(); }
 
-  /// Sample i's angles (degrees), as the queries compare them (RegionNearest gathers by them).
-  double sampleAzimuth(int i) const { return sample_az_[i]; }
-  double sampleElevation(int i) const { return sample_el_[i]; }
-
-  /// Calls visit(sample_index) for every sample in the bins that intersect the disc of radius
-  /// `reach` around (az, el): each bin row is walked only across the disc's chord at the row's
-  /// nearest elevation (a square walk visits 4/pi times the area). The caller applies the exact
-  /// distance test.
+  /// Calls visit(sample_index, azimuth, elevation) for every sample in the bins that intersect
+  /// the disc of radius `reach` around (az, el), reading the angles in bin order (sequentially);
+  /// each bin row is walked only across the disc's chord at the row's nearest elevation (a square
+  /// walk visits 4/pi times the area). The caller applies the exact distance test.
   template <typename Visit>
   void queryDisc(double az, double el, double reach, Visit&& visit) const {
     forEachDiscRow(az, el, reach, [&](int begin, int end) {
       for (int k = begin; k < end; ++k)
-        visit(order_[k]);
+        visit(order_[k], binned_az_[k], binned_el_[k]);
     });
   }
 
@@ -94,7 +90,6 @@ class AngularBins {
   // The samples' angles in bin order (order_): nearest() reads them sequentially instead of
   // gathering AngularSample records from all over the scan (a 360-degree LiDAR sweep is megabytes).
   std::vector<float> binned_az_, binned_el_;
-  std::vector<float> sample_az_, sample_el_;  // by sample index
 };
 
 }  // namespace multimodal_nvs
