@@ -330,6 +330,57 @@ struct DenseVertexInfo {
   float longest_edge_deg;
 };
 
+/// What the gap pass needs of the ground plane and the prior's parameters, as plain values.
+struct GapRowConstants {
+  double up_x, up_y, up_z, height;
+  float far;
+  double relative_sigma, relative_sigma_per_deg;
+};
+
+/// The gap pass (the sparse mode's prior: nearest return capped by the ground, the far value where
+/// neither bounds the depth) on one row of a pinhole camera, for the pixels not filled: the
+/// arithmetic of groundPriorDepthAt() and the per-pixel pass it replaces, written so that the row
+/// vectorises (selects for branches, -fno-trapping-math).
+__attribute__((noinline)) void fillGapRow(const GapRowConstants& k, const double* __restrict xs,
+                                          double y, const NearestSurfaceRows::RowWeights& w,
+                                          bool has_depth, int cols,
+                                          const std::uint8_t* __restrict filled,
+                                          float* __restrict mean_out,
+                                          float* __restrict variance_out) {
+  const double up_x = k.up_x, up_y = k.up_y, up_z = k.up_z, height = k.height;
+  const double rel = k.relative_sigma, rel_per_deg = k.relative_sigma_per_deg;
+  const float far = k.far, t = w.t;
+  const float* __restrict const depth_lo = w.depth_lo;
+  const float* __restrict const depth_hi = w.depth_hi;
+  const float* __restrict const distance_lo = w.distance_lo;
+  const float* __restrict const distance_hi = w.distance_hi;
+  thread_local std::vector<float> gap_mean_row, gap_variance_row;
+  gap_mean_row.resize(cols);
+  gap_variance_row.resize(cols);
+  float* __restrict const gap_mean = gap_mean_row.data();
+  float* __restrict const gap_variance = gap_variance_row.data();
+  for (int c = 0; c < cols; ++c) {
+    const float lerped = NearestSurfaceRows::lerp(depth_lo[c], depth_hi[c], t);
+    const float nearest_depth = has_depth ? lerped : INFINITY;
+    const float distance_deg = NearestSurfaceRows::lerp(distance_lo[c], distance_hi[c], t);
+    // groundPriorDepthAt() with an infinite far value: plane.depthAlong(x, y) as float.
+    const double descent = up_x * xs[c] + up_y * y + up_z;
+    const float ground = static_cast<float>(descent < 0.0 ? -height / descent : INFINITY);
+    float mean = nearest_depth < ground ? nearest_depth : ground;
+    mean = std::fabs(mean) <= std::numeric_limits<float>::max() ? mean : far;
+    mean = mean < 0.1f ? 0.1f : mean;
+    const float sigma = mean * static_cast<float>(rel + rel_per_deg * distance_deg);
+    gap_mean[c] = mean;
+    gap_variance[c] = sigma * sigma;
+  }
+  // Apart, so that the loop above has no byte-sized data (GCC 12 did not vectorise it with them).
+  for (int c = 0; c < cols; ++c) {
+    if (filled[c]) continue;
+    mean_out[c] = gap_mean[c];
+    variance_out[c] = gap_variance[c];
+  }
+}
+
 // Above the highest ring (the triangulation's hull ends there, and its hull-edge triangles
 // interpolate across whatever lies at the two ends). What the camera sees there is mostly
 // vertical structure: facades, poles, trees, vehicles' sides. For a level camera a vertical line
@@ -421,29 +472,35 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
   }
   const double deg_per_px = grid.stride * 180.0 / (M_PI * k.fy);
   const double bridge_deg = kBridgeSpacings * spacing * deg_per_px;
+  // The rows each column extends down to (0: not extended; a ground return is not extended).
+  std::vector<int> extend_rows(cols, 0);
+  for (int c = 0; c < cols; ++c) {
+    if (!std::isfinite(top_z[c]) || top_v[c] <= 0.0) continue;
+    double x = (double(c) * grid.stride - k.cx) / k.fx;
+    double y = (top_v[c] * grid.stride - k.cy) / k.fy;
+    if (angles.distorted()) {
+      const int top_row = std::clamp(static_cast<int>(std::lround(top_v[c])), 0, rows - 1);
+      const Eigen::Vector2d ray = angles.normalisedRay(top_row, c);
+      x = ray.x();
+      y = ray.y();
+    }
+    if (top_z[c] >= (1.0 - kGroundMargin) * plane.depthAlong(x, y)) continue;  // ground
+    extend_rows[c] = std::min(rows, static_cast<int>(std::ceil(top_v[c])));
+  }
+  // Written row by row (a column at a time wrote one float per cache line).
+  const double dense_sigma = g.dense_relative_sigma, sigma_per_deg = g.relative_sigma_per_deg;
   pool.parallelFor(
-      cols,
-      [&](long long c, int) {
-        if (!std::isfinite(top_z[c]) || top_v[c] <= 0.0) return;
-        const int top = std::min(rows, static_cast<int>(std::ceil(top_v[c])));
-        double x = (double(c) * grid.stride - k.cx) / k.fx;
-        double y = (top_v[c] * grid.stride - k.cy) / k.fy;
-        if (angles.distorted()) {
-          const int top_row = std::clamp(static_cast<int>(std::lround(top_v[c])), 0, rows - 1);
-          const Eigen::Vector2d ray = angles.normalisedRay(top_row, static_cast<int>(c));
-          x = ray.x();
-          y = ray.y();
-        }
-        if (top_z[c] >= (1.0 - kGroundMargin) * plane.depthAlong(x, y)) return;  // ground
-        for (int r = 0; r < top; ++r) {
+      rows,
+      [&](long long r, int) {
+        for (int c = 0; c < cols; ++c) {
+          if (r >= extend_rows[c]) continue;
           const std::size_t p = std::size_t(r) * cols + c;
-          const double above = (top_v[c] - r) * deg_per_px;
-          const double sigma =
-              top_z[c] * (g.dense_relative_sigma + g.relative_sigma_per_deg * above);
           // Inside the triangulation its interpolation stands, unless the triangle bridges a
           // region without returns (hull-edge triangles above the top ring reach across to
           // whatever return is highest nearby, a pole top or a distant roof).
           if (filled[p] && longest[p] <= bridge_deg) continue;
+          const double above = (top_v[c] - r) * deg_per_px;
+          const double sigma = top_z[c] * (dense_sigma + sigma_per_deg * above);
           out.mean[p] = top_z[c];
           out.variance[p] = static_cast<float>(sigma * sigma);
         }
@@ -625,12 +682,31 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   // only: more than half of a LiDAR image lies above the highest ring, but the rest is filled.
   if (!gap_lattice) gap_lattice.emplace(nearestSurfaceRows(samples, angles, 1, 1, step, pool));
   const NearestSurfaceRows& nearest = *gap_lattice;
+  const PinholeIntrinsics& k = angles.intrinsics();
+  const int stride = angles.grid().stride;
+  // groundPriorDepthAt()'s normalised x of each column, for the pinhole pass.
+  std::vector<double> column_x(cols);
+  for (int c = 0; c < cols; ++c)
+    column_x[c] = (c * stride - k.cx) / k.fx;
+  const GapRowConstants gap{plane.up.x(),
+                            plane.up.y(),
+                            plane.up.z(),
+                            plane.height,
+                            static_cast<float>(far),
+                            g.relative_sigma,
+                            g.relative_sigma_per_deg};
   pool.parallelFor(
       angles.grid().rows(),
       [&](long long r, int) {
         const NearestSurfaceRows::RowWeights w = nearest.row(static_cast<int>(r));
+        const std::size_t row = std::size_t(r) * cols;
+        if (!angles.distorted()) {
+          fillGapRow(gap, column_x.data(), (r * stride - k.cy) / k.fy, w, nearest.has_depth, cols,
+                     filled.data() + row, out.mean.data() + row, out.variance.data() + row);
+          return;
+        }
         for (int c = 0; c < cols; ++c) {
-          const std::size_t p = std::size_t(r) * cols + c;
+          const std::size_t p = row + c;
           if (filled[p]) continue;
           const float nearest_depth =
               nearest.has_depth ? NearestSurfaceRows::lerp(w.depth_lo[c], w.depth_hi[c], w.t)
