@@ -14,10 +14,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <future>
 #include <limits>
 #include <optional>
-#include <system_error>
 #include <type_traits>
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
