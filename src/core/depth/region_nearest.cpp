@@ -52,11 +52,11 @@ double RegionNearest::gatherAround(const AngularBins& bins, double az, double el
   double bound = guess > 0.0 ? guess : 1.0;
   for (;;) {
     gather(bins, az, el, coveringRadius(bound, extent));
+    // Every sample gathered: whatever k is, nothing is missing.
+    if (index_.size() == bins.size()) break;
     const double bound2 = bound * bound;
     const std::size_t within = static_cast<std::size_t>(
         std::count_if(centre2_.begin(), centre2_.end(), [&](double d2) { return d2 <= bound2; }));
-    // Every sample gathered: whatever k is, nothing is missing.
-    if (index_.size() == bins.size()) break;
     if (k == 0 || within < k) {
       bound *= 2.0;
       continue;
@@ -73,7 +73,6 @@ double RegionNearest::gatherAround(const AngularBins& bins, double az, double el
   }
   distance2_.resize(index_.size());
   passed_.resize(index_.size());
-  best_.resize(k);
   return bound;
 }
 

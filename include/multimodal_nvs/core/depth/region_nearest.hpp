@@ -1,6 +1,6 @@
 #pragma once
-// k-nearest queries for many points of one small region (the pixels of a triangle or a tile),
-// answered from the samples gathered once around it instead of a bin walk per query.
+// k-nearest queries for many points of one small region (the pixels of an image tile), answered
+// from the samples gathered once around it instead of a bin walk per query.
 #include <cstddef>
 #include <utility>
 #include <vector>

@@ -45,6 +45,17 @@ inline float priorDepth(float ground, float nearest, float far) {
   const float prior = nearest < ground ? nearest : ground;
   return std::fabs(prior) <= std::numeric_limits<float>::max() ? prior : far;
 }
+
+/// Each grid column's normalised image x, (c - cx) / fx, of an undistorted camera: the x of
+/// plane.depthAlong(x, y) in the full-image prior passes.
+std::vector<double> pinholeColumnX(const PixelAngleGrid& angles) {
+  const PinholeIntrinsics& k = angles.intrinsics();
+  const StrideGrid& grid = angles.grid();
+  std::vector<double> column_x(grid.cols());
+  for (int c = 0; c < grid.cols(); ++c)
+    column_x[c] = (double(c) * grid.stride - k.cx) / k.fx;
+  return column_x;
+}
 }  // namespace
 
 void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
@@ -77,9 +88,7 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
   const int rows = grid.rows(), cols = grid.cols();
   const float farf = static_cast<float>(far);
   // The ground depth of a pixel ray is -h / (up . d), with x = X/Z per column.
-  std::vector<double> column_x(cols);
-  for (int c = 0; c < cols; ++c)
-    column_x[c] = (double(c) * grid.stride - k.cx) / k.fx;
+  const std::vector<double> column_x = pinholeColumnX(angles);
 
   // A distorted camera's rays are not separable into a column's x and a row's y: its pass reads
   // each pixel's ray from the grid's table (a separate instantiation, so that the pinhole pass
@@ -364,8 +373,7 @@ __attribute__((noinline)) void fillGapRow(const GapRowConstants& k, const double
     // groundPriorDepthAt() with an infinite far value: plane.depthAlong(x, y) as float.
     const double descent = up_x * xs[c] + up_y * y + up_z;
     const float ground = static_cast<float>(descent < 0.0 ? -height / descent : INFINITY);
-    float mean = nearest_depth < ground ? nearest_depth : ground;
-    mean = std::fabs(mean) <= std::numeric_limits<float>::max() ? mean : far;
+    float mean = priorDepth(ground, nearest_depth, far);
     mean = mean < 0.1f ? 0.1f : mean;
     const float sigma = mean * static_cast<float>(rel + rel_per_deg * distance_deg);
     gap_mean[c] = mean;
@@ -683,9 +691,7 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   const PinholeIntrinsics& k = angles.intrinsics();
   const int stride = angles.grid().stride;
   // groundPriorDepthAt()'s normalised x of each column, for the pinhole pass.
-  std::vector<double> column_x(cols);
-  for (int c = 0; c < cols; ++c)
-    column_x[c] = (c * stride - k.cx) / k.fx;
+  const std::vector<double> column_x = pinholeColumnX(angles);
   const GapRowConstants gap{plane.up.x(),
                             plane.up.y(),
                             plane.up.z(),

@@ -67,8 +67,6 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     baseline(samples, angles, params, pool, out);
     return 0;
   }
-  // Both models that stand on the ground take its plane (and ground_gp its mode) from the returns
-  // when they allow it, else from the pose or the parameters.
   // ground_gp on LiDAR triangulates its returns: the serial triangulation starts now, on its own
   // thread, and overlaps the ground plane's fit. Only when dense input is asked for: in the auto
   // mode the fit decides, and a radar scan would not need the triangles.
@@ -77,6 +75,8 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
                                         params.model == DepthModel::kGroundGp &&
                                             params.ground.input == Input::kDense &&
                                             pool.size() > 1);
+  // Both models that stand on the ground take its plane (and ground_gp its mode) from the returns
+  // when they allow it, else from the pose or the parameters.
   GroundChoice choice;
   if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
     choice = chooseGround(samples, angles, params);
