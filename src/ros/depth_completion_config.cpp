@@ -49,6 +49,8 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   g.prior_weight = config.guided_prior_weight;
   g.far_depth = config.guided_far_depth;
   g.ground_prior = config.guided_ground_prior;
+  g.surface_prior = config.guided_surface_prior;
+  g.lateral_prior = config.guided_lateral_prior;
   g.edges = config.guided_edges;
   g.sky = config.guided_sky;
   g.sky_gradient = config.guided_sky_gradient;
@@ -101,6 +103,8 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.guided_prior_weight = g.prior_weight;
   config.guided_far_depth = g.far_depth;
   config.guided_ground_prior = g.ground_prior;
+  config.guided_surface_prior = g.surface_prior;
+  config.guided_lateral_prior = g.lateral_prior;
   config.guided_edges = g.edges;
   config.guided_sky = g.sky;
   config.guided_sky_gradient = g.sky_gradient;

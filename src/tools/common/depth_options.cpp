@@ -132,6 +132,9 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
   app.add_option("--guided-surface-prior", ig.surface_prior,
                  "1 the prior is the nearer of ground and nearest return, 0 ground only")
       ->group(guided);
+  app.add_option("--guided-lateral-prior", ig.lateral_prior,
+                 "1 a nearest return continues as a wall along the view towards the centre")
+      ->group(guided);
   app.add_option("--guided-edges", ig.edges, "1 follow the image's edges, 0 ignore them")
       ->group(guided);
   app.add_option("--guided-sky", ig.sky, "1 send the detected sky to the far depth")->group(guided);

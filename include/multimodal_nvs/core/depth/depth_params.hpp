@@ -86,6 +86,9 @@ struct ImageGuidedParams {
   /// true: where the ground prior is farther than the nearest return, that return's depth is the
   /// prior (a surface stands between the camera and the ground or the far clamp)
   bool surface_prior = true;
+  /// true: a nearest return continues as a wall along the viewing direction (constant lateral
+  /// offset) towards the image centre, instead of at its own depth (surface_prior must be on)
+  bool lateral_prior = true;
   bool edges = true;              ///< false: a uniform guide (no image edges; the ablation)
   bool sky = true;                ///< detect the sky and send it to far_depth
   double sky_gradient = 12.0;     ///< image gradient (8-bit units) that ends the sky in a column

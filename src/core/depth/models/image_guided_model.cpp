@@ -132,6 +132,47 @@ float medianDepth(const std::vector<AngularSample>& samples) {
   return d[d.size() / 2];
 }
 
+/// The surface prior: each pixel's prior becomes the nearer of itself and the surface of its
+/// angularly nearest return (not in the sky). With `lateral_prior` a return whose pixel lies
+/// nearer the image centre than the return continues as a wall along the viewing direction: the
+/// return's lateral offset X is constant along a wall parallel to the optical axis (a street's
+/// facades, a row of parked cars), so the pixel's depth there is X / x (x = X / Z, its normalised
+/// image coordinate), whatever the pitch. Without it the far end of a facade whose only returns
+/// are near takes their depth, which is too near (the "minimum of the nearest surface" error).
+void applySurfacePrior(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                       const ImageGuidedParams& g, float far, const std::vector<std::uint8_t>& sky,
+                       ThreadPool& pool, std::vector<float>& prior) {
+  const std::vector<AngularSample> usable = usableSamples(samples);
+  if (usable.empty()) return;
+  const std::vector<int> nearest = nearestSampleIndex(usable, angles, pool);
+  std::vector<float> lateral_x(usable.size());  // the return's normalised x = X / Z
+  for (std::size_t s = 0; s < usable.size(); ++s) {
+    lateral_x[s] = static_cast<float>(
+        normalisedFromAngles(usable[s].azimuth_deg, usable[s].elevation_deg).x());
+  }
+  const int rows = angles.grid().rows(), cols = angles.grid().cols();
+  pool.parallelFor(
+      rows,
+      [&](long long r, int) {
+        for (int c = 0; c < cols; ++c) {
+          const std::size_t i = std::size_t(r) * cols + c;
+          if (!sky.empty() && sky[i]) continue;
+          const int s = nearest[i];
+          float depth = usable[s].depth;
+          if (g.lateral_prior) {
+            const float x = static_cast<float>(angles.normalisedRay(int(r), c).x());
+            const float x_return = lateral_x[s];
+            // Same side of the centre, nearer to it: farther along the wall (X / x > Z).
+            if (x * x_return > 0.0f && std::abs(x) < std::abs(x_return)) {
+              depth = std::min(depth * (x_return / x), far);
+            }
+          }
+          prior[i] = std::min(prior[i], depth);
+        }
+      },
+      16);
+}
+
 }  // namespace
 
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
@@ -150,16 +191,7 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   std::vector<std::uint8_t> sky;
   if (g.sky) sky = skyMask(guide, prior, far, returns.top_row, g.sky_gradient, g.sky_brightness);
 
-  if (g.surface_prior && !samples.empty()) {
-    PixelPredictions nearest;
-    predictNearest(samples, angles, params, pool, nearest);
-    for (std::size_t i = 0; i < n; ++i) {
-      const bool in_sky = !sky.empty() && sky[i];
-      if (!in_sky && std::isfinite(nearest.mean[i]) && nearest.mean[i] > 0.0f) {
-        prior[i] = std::min(prior[i], nearest.mean[i]);
-      }
-    }
-  }
+  if (g.surface_prior) applySurfacePrior(samples, angles, g, far, sky, pool, prior);
   // Evidence sums per pixel: weight, weight * x, weight * x^2 with x = 1 / depth.
   cv::Mat evidence(rows, cols, CV_32FC3);
   const float prior_weight = static_cast<float>(g.prior_weight);

@@ -114,15 +114,13 @@ class AngularBins {
   std::vector<int> start_, members_;
 };
 
-}  // namespace
-
-void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAngleGrid& angles,
-                    const DepthCompletionParams& params, ThreadPool& pool, PixelPredictions& out) {
+/// Calls write(pixel index, sample index, squared distance) once per grid pixel with its nearest
+/// sample (ties: the lower index). `samples` must not be empty.
+template <class Write>
+void forEachNearest(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                    ThreadPool& pool, const Write& write) {
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
-  setNoPrediction(grid, out);
-  const std::vector<AngularSample> samples = usableSamples(all_samples);
-  if (samples.empty()) return;
 
   // Bins over the union of the samples' and the pixels' angular bounding boxes: every pixel lies
   // inside the binned area, which the ring-search stopping rule relies on.
@@ -200,9 +198,7 @@ void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAn
             best = i;
           }
         }
-        out.mean[row + c] = samples[best].depth;
-        out.variance[row + c] =
-            static_cast<float>(distanceVariance(std::sqrt(double(best_d)), params));
+        write(row + c, best, best_d);
       }
     }
   };
@@ -217,6 +213,28 @@ void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAn
       for (int c = c0; c < whole.c1; c += kBlock)
         predictBlock(block(r, c, kBlock), worker);
   });
+}
+
+}  // namespace
+
+void predictNearest(const std::vector<AngularSample>& all_samples, const PixelAngleGrid& angles,
+                    const DepthCompletionParams& params, ThreadPool& pool, PixelPredictions& out) {
+  setNoPrediction(angles.grid(), out);
+  const std::vector<AngularSample> samples = usableSamples(all_samples);
+  if (samples.empty()) return;
+  forEachNearest(samples, angles, pool, [&](std::size_t pixel, int best, float best_d2) {
+    out.mean[pixel] = samples[best].depth;
+    out.variance[pixel] = static_cast<float>(distanceVariance(std::sqrt(double(best_d2)), params));
+  });
+}
+
+std::vector<int> nearestSampleIndex(const std::vector<AngularSample>& samples,
+                                    const PixelAngleGrid& angles, ThreadPool& pool) {
+  std::vector<int> index(std::size_t(angles.grid().rows()) * angles.grid().cols(), -1);
+  if (samples.empty()) return index;
+  forEachNearest(samples, angles, pool,
+                 [&](std::size_t pixel, int best, float) { index[pixel] = best; });
+  return index;
 }
 
 }  // namespace multimodal_nvs

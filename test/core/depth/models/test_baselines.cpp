@@ -12,6 +12,7 @@
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/models/distance_variance.hpp"
 #include "multimodal_nvs/core/depth/models/model_registry.hpp"
+#include "multimodal_nvs/core/depth/models/nearest_model.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 #include "multimodal_nvs/core/depth/retention.hpp"
 
@@ -130,6 +131,34 @@ TEST(Baselines, NearestMatchesBruteForceOnRandomScenes) {
   }
   const mm::DepthMap map = run(points, mm::DepthModel::kNearest, 3);
   expectNearestIsBruteForce(map, points, k);
+}
+
+// The index another model reads (image_guided's surface prior) names the sample whose depth the
+// nearest model writes, pixel by pixel, ties included; without samples every index is -1.
+TEST(Baselines, NearestSampleIndexNamesTheSampleOfTheNearestDepth) {
+  const auto k = smallCamera();
+  std::srand(5);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 200; ++i) {
+    const double u = -40 + 240.0 * std::rand() / RAND_MAX, v = -30 + 180.0 * std::rand() / RAND_MAX;
+    points.push_back(pointOnPixelRay(k, u, v, 2.0 + 40.0 * std::rand() / RAND_MAX));
+  }
+  points.push_back(3.0 * points[9]);  // a tie: the lower index wins in both
+  const mm::StrideGrid grid{smallImage(), 2};
+  const mm::PixelAngleGrid angles(k, grid);
+  const std::vector<mm::AngularSample> samples = mm::usableSamples(mm::toAngularSamples(points));
+  mm::ThreadPool pool(2);
+  const std::vector<int> index = mm::nearestSampleIndex(samples, angles, pool);
+  const mm::DepthMap map = run(points, mm::DepthModel::kNearest, 2);
+  ASSERT_EQ(index.size(), map.depth.size());
+  for (std::size_t i = 0; i < index.size(); ++i) {
+    ASSERT_GE(index[i], 0) << i;
+    ASSERT_EQ(samples[index[i]].depth, map.depth[i]) << i;
+  }
+  const std::vector<int> none = mm::nearestSampleIndex({}, angles, pool);
+  ASSERT_EQ(none.size(), index.size());
+  for (int i : none)
+    ASSERT_EQ(i, -1);
 }
 
 // A narrow camera whose returns lie in the bottom rows only (a LiDAR's view): the blocks far above

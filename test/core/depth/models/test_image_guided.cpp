@@ -19,10 +19,13 @@ using mm::test::smallImage;
 namespace {
 constexpr int kCols = 160;
 
-mm::DepthCompletionParams guidedParams() {
+/// The model's defaults; the tests of the edges and the variance switch the lateral prior off, so
+/// that every pixel of a half starts from the same prior (its own test is below).
+mm::DepthCompletionParams guidedParams(bool lateral_prior = false) {
   mm::DepthCompletionParams p;
   p.model = mm::DepthModel::kImageGuided;
   p.threads = 2;
+  p.guided.lateral_prior = lateral_prior;
   return p;
 }
 
@@ -60,6 +63,31 @@ TEST(ImageGuided, DepthChangesAtTheImageEdgeAndNotElsewhere) {
       completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
   EXPECT_GT(std::abs(at(map, 80, 82) - at(map, 80, 78)),
             2.0f * std::abs(at(blurred, 80, 82) - at(blurred, 80, 78)));
+}
+
+// One return on a left wall (X = -4 m) above the horizon, and a smoother too weak to move evidence
+// (lambda ~0), so each pixel shows its prior. Towards the image centre the wall continues along the
+// view: its depth there is X / x (x = -0.2 at column 60: 20 m), not the return's 6.7 m. Outwards
+// and on the other side of the centre the nearest return's own depth stays the prior.
+TEST(ImageGuided, LateralPriorContinuesAWallTowardsTheImageCentre) {
+  const cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128));
+  const double wall_depth = 4.0 / 0.6;  // column 20: x = (20 - 80) / 100 = -0.6
+  const std::vector<Eigen::Vector3d> wall = {pointOnPixelRay(smallCamera(), 20, 30, wall_depth)};
+  mm::DepthCompletionParams p = guidedParams(true);
+  p.guided.sky = false;
+  p.guided.lambda = 1e-6;
+  mm::DepthCompleter completer(2);
+  const auto lateral = completer.complete(wall, smallCamera(), {smallImage(), 1}, p, image);
+  EXPECT_NEAR(at(lateral, 30, 60), 20.0f, 0.1f);
+  EXPECT_NEAR(at(lateral, 30, 70), 40.0f, 0.2f);
+  EXPECT_NEAR(at(lateral, 30, 10), wall_depth, 0.05f);
+  EXPECT_NEAR(at(lateral, 30, 140), wall_depth, 0.05f);
+  // Below the horizon the ground still caps it: row 100 meets the ground 3.25 m away.
+  EXPECT_NEAR(at(lateral, 100, 60), 1.3f / 0.4f, 0.05f);
+  p.guided.lateral_prior = false;
+  const auto own_depth = completer.complete(wall, smallCamera(), {smallImage(), 1}, p, image);
+  EXPECT_NEAR(at(own_depth, 30, 60), wall_depth, 0.05f);
+  EXPECT_NEAR(at(own_depth, 30, 140), wall_depth, 0.05f);
 }
 
 TEST(ImageGuided, BrightUniformTopIsSkyAtTheFarClampWithItsVariance) {

@@ -19,4 +19,11 @@ namespace multimodal_nvs {
 void predictNearest(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                     const DepthCompletionParams& params, ThreadPool& pool, PixelPredictions& out);
 
+/// The index into `samples` of each grid pixel's angularly nearest sample (row-major; ties: the
+/// lower index), -1 everywhere when there is none: the sample predictNearest() takes its depth
+/// from, for models that need more of it than the depth. `samples` are used as they are: pass
+/// usableSamples() for predictNearest()'s choice.
+std::vector<int> nearestSampleIndex(const std::vector<AngularSample>& samples,
+                                    const PixelAngleGrid& angles, ThreadPool& pool);
+
 }  // namespace multimodal_nvs
