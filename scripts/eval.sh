@@ -29,7 +29,9 @@
 #   EVAL_SCENE_CACHE where generated scenes are kept (default $EVAL_OUTPUT/scenes); a scene is
 #                    regenerated only when its arguments, scale or frame count change
 #   EVAL_SCENE_SCALE image scale of the synthetic scenes (default 0.5: 968x608)
-#   EVAL_RETENTION   retention (%) of the novel-view depth (default 80, config/radar.yaml's)
+#   EVAL_RETENTION   retention (%) of the novel-view depth (default: the configs', radar 100 as in
+#                    config/radar.yaml, LiDAR 80 as in config/lidar.yaml); VoD 08350 also at 80
+#                    and 100
 #   EVAL_MODEL_ARGS  extra options of every depth run (tuning on dev: "--guided-lambda 1000")
 #   EVAL_SCENE_DEPTH_FRAMES frames of the synthetic depth metrics (default 0, the novel-view frame)
 #   EVAL_KEEP_FRAMES=1 keeps the rendered frames of the novel-view runs
@@ -77,7 +79,9 @@ SCENE_CACHE=${EVAL_SCENE_CACHE:-$OUT/scenes}
 SCENE_SCALE=${EVAL_SCENE_SCALE:-0.5}
 SCENE_FRAMES=16
 SCENE_DEPTH_FRAMES=${EVAL_SCENE_DEPTH_FRAMES:-0}
-NVS_RETENTION=${EVAL_RETENTION:-80}
+# Novel-view retention per input: the configs' unless EVAL_RETENTION sets one for both.
+RADAR_RETENTION=${EVAL_RETENTION:-100}
+LIDAR_RETENTION=${EVAL_RETENTION:-80}
 
 # Depth models of the tables. On LiDAR input the GP uses the documented tile approximation (the
 # exact GP takes about a minute per frame on 1-in-4 LiDAR even at stride 4: measured 58 s).
@@ -288,7 +292,9 @@ else
     if ! skipped nvs; then
       skipped oracle || oracle_runs "$dir/nvs" "$root"
       for input in $inputs; do
-        nvs_model_runs "$dir/nvs" "$root" 00000 "$input" "$NVS_RETENTION" 0 \
+        retention=$RADAR_RETENTION
+        [[ "$input" == lidar ]] && retention=$LIDAR_RETENTION
+        nvs_model_runs "$dir/nvs" "$root" 00000 "$input" "$retention" 0 \
           $((SCENE_FRAMES - 1)) 352 640
       done
     fi
@@ -322,7 +328,8 @@ else
   if skipped nvs; then
     progress "vod: novel view skipped (EVAL_SKIP)"
   elif [[ -f "$VOD/radar/training/velodyne/08350.bin" ]]; then
-    nvs_model_runs "$RAW/vod/nvs" "$VOD" 08350 radar "$NVS_RETENTION 100" 8350 8365 704 1280
+    nvs_model_runs "$RAW/vod/nvs" "$VOD" 08350 radar \
+      "$(printf '%s\n' 80 100 "$RADAR_RETENTION" | sort -nu | tr '\n' ' ')" 8350 8365 704 1280
   else
     progress "vod: novel view skipped: no radar scan of frame 08350"
   fi

@@ -466,7 +466,7 @@ def scene_order():
 def scene_results(directory):
     """Everything measured on one scene: depth (per input, model) and novel views."""
     info = load(os.path.join(directory, "scene.json"))
-    out = dict(info, depth={}, nvs={}, errors={}, retention=None)
+    out = dict(info, depth={}, nvs={}, errors={}, retention={})
     for input_name, _ in INPUTS:
         for model in MODEL_NAMES:
             path = os.path.join(directory, "%s_%s.json" % (input_name, model))
@@ -495,7 +495,7 @@ def scene_results(directory):
             if parts[0] not in dict(INPUTS) or not parts[-1].isdigit():
                 continue
             model = "_".join(parts[1:-1])
-            out["retention"] = int(parts[-1])
+            out["retention"][parts[0]] = int(parts[-1])
             run = nvs_run(os.path.join(nvs_dir, stem))
             oracle = out["nvs"].get("oracle")
             if oracle and run["covered_psnr"] is not None and oracle["covered_psnr"] is not None:
@@ -519,20 +519,31 @@ def synthetic_tables(raw):
         return []
     models = [m for m in MODEL_NAMES if any(
         (i, m) in s["nvs"] or (i, m) in s["depth"] for s in scenes for i, _ in INPUTS)]
-    retention = next((s["retention"] for s in scenes if s["retention"] is not None), None)
+    # Novel-view retention per input (each config's own, e.g. radar 100 %, LiDAR 80 %).
+    retention_of = {}
+    for s in scenes:
+        for input_name, percent in s["retention"].items():
+            retention_of.setdefault(input_name, percent)
+    if len(set(retention_of.values())) == 1:
+        retention = "%d %%" % next(iter(retention_of.values()))
+    elif retention_of:
+        retention = ", ".join("%s %d %%" % (label, retention_of[name])
+                              for name, label in INPUTS if name in retention_of)
+    else:
+        retention = "–"
     first = scenes[0]
     depth_frames = next((", ".join(str(f) for f in d["frames"]) for s in scenes
                          for d in s["depth"].values()), "–")
     setup = ("Scenes of eval/synthetic_scenes.tsv made by make_synthetic_scene --num-frames %s "
              "--scale %s plus each scene's arguments. Novel views: frame 0's depth (radar; or all "
-             "LiDAR returns) at %s %% retention, rendered with GEN3C's splatting at 352x640 into "
+             "LiDAR returns) at %s retention, rendered with GEN3C's splatting at 352x640 into "
              "the 16 recorded poses; the oracle renders the exact depth with the sky at GEN3C's "
              "100 m clamp, 'exact, sky dropped' the exact depth without the sky; gap = covered "
              "PSNR minus the oracle's. Depth: against the exact depth at frame(s) %s (radar: all "
              "returns, stride 1; LiDAR: 1 in 4 returns as input, stride 4). On LiDAR input the "
              "local GP uses the tile approximation (--max-neighbors 64), and kernel regression on "
              "all LiDAR returns (the novel views) a 1° radius." %
-             (first.get("frames"), first.get("scale"), retention if retention else "–",
+             (first.get("frames"), first.get("scale"), retention,
               depth_frames))
     tables = []
 

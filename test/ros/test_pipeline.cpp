@@ -87,6 +87,10 @@ class PipelineTest : public ::testing::Test {
     // The last pcl_ros filter's output when filters sit in front of the depth nodelet.
     filtered_topic_ = pnh.param<std::string>("filtered_points", "");
     ros::NodeHandle nh;
+    // The depth nodelet's retention, as its YAML set it (pipeline.launch's depth_name).
+    ASSERT_TRUE(
+        nh.getParam(pnh.param<std::string>("depth_node", "/depth_completion") + "/retain_percent",
+                    retain_percent_));
 
     char pattern[] = "/tmp/mmnvs_pipeline_XXXXXX";
     ASSERT_NE(mkdtemp(pattern), nullptr) << std::strerror(errno);
@@ -174,6 +178,7 @@ class PipelineTest : public ::testing::Test {
   }
 
   static std::string sensor_, renderer_, filtered_topic_, dir_, bag_;
+  static double retain_percent_;
   static pid_t player_;
   static Outputs* outputs_;
   static std::vector<ros::Subscriber>* subscribers_;
@@ -182,6 +187,7 @@ class PipelineTest : public ::testing::Test {
 
 std::string PipelineTest::sensor_, PipelineTest::renderer_, PipelineTest::filtered_topic_,
     PipelineTest::dir_, PipelineTest::bag_;
+double PipelineTest::retain_percent_ = 0.0;
 pid_t PipelineTest::player_ = -1;
 Outputs* PipelineTest::outputs_ = nullptr;
 std::vector<ros::Subscriber>* PipelineTest::subscribers_ = nullptr;
@@ -244,7 +250,15 @@ TEST_F(PipelineTest, DepthIsFiniteAndPositiveExactlyWhereTheMaskIsSet) {
     EXPECT_EQ(bad_kept, 0u) << "kept pixels without a finite positive depth";
     EXPECT_EQ(bad_hole, 0u) << "pixels outside the mask that are not NaN";
     EXPECT_GT(kept, 0u);
-    EXPECT_LT(kept, std::size_t(depth->width) * depth->height) << "retention keeps everything";
+    // Retention keeps retain_percent of all grid pixels (config/radar.yaml 100: every prediction,
+    // and ground_gp predicts every pixel; config/lidar.yaml 80).
+    const std::size_t pixels = std::size_t(depth->width) * depth->height;
+    if (retain_percent_ < 100.0) {
+      EXPECT_LE(kept, std::size_t(std::ceil(retain_percent_ / 100.0 * pixels)))
+          << "retention keeps more than retain_percent " << retain_percent_;
+    } else {
+      EXPECT_EQ(kept, pixels) << "retain_percent 100 drops pixels";
+    }
   }
 }
 
