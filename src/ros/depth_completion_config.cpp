@@ -51,6 +51,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   g.ground_prior = config.guided_ground_prior;
   g.surface_prior = config.guided_surface_prior;
   g.lateral_prior = config.guided_lateral_prior;
+  g.ground_gp_prior = config.guided_ground_gp_prior;
   g.edges = config.guided_edges;
   g.sky = config.guided_sky;
   g.sky_gradient = config.guided_sky_gradient;
@@ -105,6 +106,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.guided_ground_prior = g.ground_prior;
   config.guided_surface_prior = g.surface_prior;
   config.guided_lateral_prior = g.lateral_prior;
+  config.guided_ground_gp_prior = g.ground_gp_prior;
   config.guided_edges = g.edges;
   config.guided_sky = g.sky;
   config.guided_sky_gradient = g.sky_gradient;

@@ -687,6 +687,7 @@ TEST(ConfigMapping, DefaultsAreTheCoreDefaultsExceptRetention) {
   EXPECT_EQ(settings.params.approx_tile, core.approx_tile);
   EXPECT_EQ(settings.params.guided.surface_prior, core.guided.surface_prior);
   EXPECT_EQ(settings.params.guided.lateral_prior, core.guided.lateral_prior);
+  EXPECT_EQ(settings.params.guided.ground_gp_prior, core.guided.ground_gp_prior);
   EXPECT_EQ(settings.params.guided.lambda, core.guided.lambda);
   EXPECT_EQ(settings.params.guided.sky, core.guided.sky);
   EXPECT_EQ(settings.params.retain_percent, 80.0);  // the paper's choice, not the reference's 100
@@ -699,8 +700,10 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   config.var_threshold = 4.0;
   config.stride = 3;
   config.guided_lateral_prior = false;
+  config.guided_ground_gp_prior = true;
   const mm::DepthCompletionSettings settings = mm::settingsFromConfig(config);
   EXPECT_FALSE(settings.params.guided.lateral_prior);
+  EXPECT_TRUE(settings.params.guided.ground_gp_prior);
   EXPECT_EQ(settings.params.model, mm::DepthModel::kKernel);
   EXPECT_EQ(settings.params.shift.mode, mm::DepthShift::Mode::kValue);
   EXPECT_EQ(settings.params.shift.value, 12.5);
@@ -710,6 +713,7 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   EXPECT_EQ(back.model, "kernel");
   EXPECT_EQ(back.stride, 3);
   EXPECT_FALSE(back.guided_lateral_prior);
+  EXPECT_TRUE(back.guided_ground_gp_prior);
   EXPECT_EQ(mm::settingsFromConfig(back).params.shift.value, 12.5);
 
   config.model = "no_such_model";

@@ -135,6 +135,9 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
   app.add_option("--guided-lateral-prior", ig.lateral_prior,
                  "1 a nearest return continues as a wall along the view towards the centre")
       ->group(guided);
+  app.add_option("--guided-ground-gp-prior", ig.ground_gp_prior,
+                 "1 the prior is ground_gp's prediction, 0 the ground and nearest-surface prior")
+      ->group(guided);
   app.add_option("--guided-edges", ig.edges, "1 follow the image's edges, 0 ignore them")
       ->group(guided);
   app.add_option("--guided-sky", ig.sky, "1 send the detected sky to the far depth")->group(guided);

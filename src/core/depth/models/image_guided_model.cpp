@@ -177,7 +177,8 @@ void applySurfacePrior(const std::vector<AngularSample>& samples, const PixelAng
 
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, const GroundPlane& plane,
-                        const cv::Mat& image, ThreadPool& pool, PixelPredictions& out) {
+                        const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
+                        const std::vector<float>* model_prior) {
   const ImageGuidedParams& g = params.guided;
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
@@ -191,7 +192,19 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   std::vector<std::uint8_t> sky;
   if (g.sky) sky = skyMask(guide, prior, far, returns.top_row, g.sky_gradient, g.sky_brightness);
 
-  if (g.surface_prior) applySurfacePrior(samples, angles, g, far, sky, pool, prior);
+  if (model_prior != nullptr) {
+    // Another model's prediction (ground_gp's) is the prior: it already holds the ground, the
+    // nearest surfaces and its own fit to the returns; the smoother adds the image's edges.
+    if (model_prior->size() != n)
+      throw InputError("image_guided: the model prior has the wrong size");
+    // The sky keeps the far clamp as its evidence, so that it does not pull its edge nearer.
+    for (std::size_t i = 0; i < n; ++i) {
+      const float d = (*model_prior)[i];
+      if ((sky.empty() || !sky[i]) && d > 0.0f && std::isfinite(d)) prior[i] = std::min(d, far);
+    }
+  } else if (g.surface_prior) {
+    applySurfacePrior(samples, angles, g, far, sky, pool, prior);
+  }
   // Evidence sums per pixel: weight, weight * x, weight * x^2 with x = 1 / depth.
   cv::Mat evidence(rows, cols, CV_32FC3);
   const float prior_weight = static_cast<float>(g.prior_weight);

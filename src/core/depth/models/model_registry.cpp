@@ -83,8 +83,18 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     if (ground) *ground = choice;
   }
   if (params.model == DepthModel::kImageGuided) {
-    predictImageGuided(samples, angles, params, choice.plane, image, pool, out);
-    return 0;
+    if (!params.guided.ground_gp_prior) {
+      predictImageGuided(samples, angles, params, choice.plane, image, pool, out);
+      return 0;
+    }
+    // ground_gp first (its own ground choice, the same as above), then its depth as the prior.
+    DepthCompletionParams ground_gp = params;
+    ground_gp.model = DepthModel::kGroundGp;
+    PixelPredictions prior;
+    const int sets =
+        predictWithModel(samples, angles, ground_gp, shift, pool, prior, image, nullptr, scratch);
+    predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior.mean);
+    return sets;
   }
   if (params.model == DepthModel::kGroundGp && choice.dense) {
     // Dense input needs no neighbour sets: the interpolating prior is the prediction.

@@ -90,6 +90,37 @@ TEST(ImageGuided, LateralPriorContinuesAWallTowardsTheImageCentre) {
   EXPECT_NEAR(at(own_depth, 30, 140), wall_depth, 0.05f);
 }
 
+// With ground_gp's prediction as the prior and a smoother too weak to move evidence, every pixel
+// without a return shows ground_gp's depth (capped at the far clamp); with the model's own prior
+// the same pixels differ.
+TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
+  const cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128));
+  const std::vector<Eigen::Vector3d> returns = {pointOnPixelRay(smallCamera(), 30, 70, 8.0),
+                                                pointOnPixelRay(smallCamera(), 120, 40, 15.0),
+                                                pointOnPixelRay(smallCamera(), 70, 90, 6.0)};
+  mm::DepthCompleter completer(2);
+  mm::DepthCompletionParams gp = guidedParams();
+  gp.model = mm::DepthModel::kGroundGp;
+  const auto ground_gp = completer.complete(returns, smallCamera(), {smallImage(), 1}, gp);
+  mm::DepthCompletionParams p = guidedParams();
+  p.guided.sky = false;
+  p.guided.lambda = 1e-9;
+  p.guided.ground_gp_prior = true;
+  const auto hybrid = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  p.guided.ground_gp_prior = false;
+  const auto own = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  int compared = 0, differ = 0;
+  for (int r = 0; r < smallImage().height; r += 7) {
+    for (int c = 0; c < kCols; c += 7) {
+      const float want = std::min(at(ground_gp, r, c), 100.0f);
+      ASSERT_NEAR(at(hybrid, r, c), want, 1e-4f * want) << r << " " << c;
+      differ += std::abs(at(own, r, c) - want) > 0.01f * want;
+      ++compared;
+    }
+  }
+  EXPECT_GT(differ, compared / 4);
+}
+
 TEST(ImageGuided, BrightUniformTopIsSkyAtTheFarClampWithItsVariance) {
   cv::Mat image = twoHalves();
   image.rowRange(0, 30).setTo(cv::Scalar(230, 210, 190));  // sky above row 30
