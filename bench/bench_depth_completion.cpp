@@ -131,6 +131,12 @@ void BM_RadarAstyx_GroundGp_Retain80(benchmark::State& state) {
 void BM_Radar08350_ImageGuided_Retain80(benchmark::State& state) {
   runCompletion(state, 8350, "radar", radarYamlParams(mm::DepthModel::kImageGuided));
 }
+// The same with ground_gp's prediction as the smoother's prior (--guided-ground-gp-prior 1).
+void BM_Radar08350_ImageGuidedGroundGpPrior_Retain80(benchmark::State& state) {
+  mm::DepthCompletionParams p = radarYamlParams(mm::DepthModel::kImageGuided);
+  p.guided.ground_gp_prior = true;
+  runCompletion(state, 8350, "radar", p);
+}
 // The same with a lens model: the per-frame cost of honouring CameraInfo.D.
 void BM_Radar08350_GroundGp_Retain80_PlumbBob(benchmark::State& state) {
   runCompletion(state, 8350, "radar", radarYamlParams(mm::DepthModel::kGroundGp), plumbBob());
@@ -326,6 +332,9 @@ BENCHMARK(BM_Radar08350_LocalGpExact_Retain80)->Unit(benchmark::kMillisecond)->M
 BENCHMARK(BM_Radar08350_GroundGp_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_RadarAstyx_GroundGp_Retain80)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_ImageGuided_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Radar08350_ImageGuidedGroundGpPrior_Retain80)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(2.0);
 BENCHMARK(BM_Radar08350_Kernel)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_GroundGp_Retain80_PlumbBob)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_Kernel_PlumbBob)->Unit(benchmark::kMillisecond)->MinTime(2.0);

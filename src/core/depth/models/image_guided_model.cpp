@@ -5,7 +5,8 @@
 // and the ground/far prior (prior_weight). The fast global smoother, guided by the image, spreads
 // the three sums (w, w x, w x^2) and their ratio is the depth: a normalised convolution whose
 // kernel stops at the image's edges, so a return colours its own surface and not the one behind
-// it. Linear in the pixels; the smoother is OpenCV's (ximgproc), not written here.
+// it. Linear in the pixels; the smoother is OpenCV's (ximgproc) arithmetic, run on the three sums
+// at once (global_smoother.hpp).
 // Inverse depth: along a plane seen in perspective (the road) inverse depth is affine in the image,
 // depth is not. The variance: the spread of the evidence that was mixed at the pixel (its second
 // central moment, carried to depth) plus a relative std that grows from a return's to the prior's
@@ -13,9 +14,9 @@
 #include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/ximgproc/edge_filter.hpp>
 
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/global_smoother.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/nearest_model.hpp"
 
@@ -205,11 +206,15 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   } else if (g.surface_prior) {
     applySurfacePrior(samples, angles, g, far, sky, pool, prior);
   }
-  // Evidence sums per pixel: weight, weight * x, weight * x^2 with x = 1 / depth.
-  cv::Mat evidence(rows, cols, CV_32FC3);
+  // Evidence sums per pixel, one plane each: weight, weight * x, weight * x^2 with x = 1 / depth.
+  std::vector<cv::Mat> sums(3);
+  for (cv::Mat& plane : sums)
+    plane.create(rows, cols, CV_32F);
   const float prior_weight = static_cast<float>(g.prior_weight);
   for (int r = 0; r < rows; ++r) {
-    cv::Vec3f* row = evidence.ptr<cv::Vec3f>(r);
+    float* sum_w = sums[0].ptr<float>(r);
+    float* sum_wx = sums[1].ptr<float>(r);
+    float* sum_wxx = sums[2].ptr<float>(r);
     for (int c = 0; c < cols; ++c) {
       const std::size_t i = std::size_t(r) * cols + c;
       const float xp = 1.0f / std::min(prior[i], far);
@@ -220,14 +225,13 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
         wx += xr;
         wxx += xr * xr;
       }
-      row[c] = cv::Vec3f(w, wx, wxx);
+      sum_w[c] = w;
+      sum_wx[c] = wx;
+      sum_wxx[c] = wxx;
     }
   }
   const cv::Mat edge_guide = g.edges ? guide : cv::Mat(rows, cols, CV_8UC3, cv::Scalar::all(128));
-  cv::Mat spread;
-  cv::ximgproc::createFastGlobalSmootherFilter(edge_guide, g.lambda, g.sigma_color, 0.25,
-                                               g.iterations)
-      ->filter(evidence, spread);
+  smoothAlongGuide(edge_guide, sums, {g.lambda, g.sigma_color, 0.25, g.iterations}, pool);
 
   out.mean.resize(n);
   out.variance.resize(n);
@@ -235,7 +239,9 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   const float rel_prior = static_cast<float>(g.relative_sigma);
   const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
   for (int r = 0; r < rows; ++r) {
-    const cv::Vec3f* row = spread.ptr<cv::Vec3f>(r);
+    const float* sum_w = sums[0].ptr<float>(r);
+    const float* sum_wx = sums[1].ptr<float>(r);
+    const float* sum_wxx = sums[2].ptr<float>(r);
     for (int c = 0; c < cols; ++c) {
       const std::size_t i = std::size_t(r) * cols + c;
       if (!sky.empty() && sky[i]) {
@@ -244,9 +250,9 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
         continue;
       }
       // The smoother keeps sums positive up to rounding; the floor keeps the ratio finite.
-      const float w = std::max(row[c][0], prior_weight * 1e-3f);
-      const float x = std::max(row[c][1] / w, 1.0f / far);
-      const float spread_x = std::max(row[c][2] / w - x * x, 0.0f);
+      const float w = std::max(sum_w[c], prior_weight * 1e-3f);
+      const float x = std::max(sum_wx[c] / w, 1.0f / far);
+      const float spread_x = std::max(sum_wxx[c] / w - x * x, 0.0f);
       const float depth = std::min(1.0f / x, far);
       const float prior_share = std::min(1.0f, prior_weight / w);
       const float relative = rel_return + (rel_prior - rel_return) * prior_share;
