@@ -46,6 +46,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   g.lambda = config.guided_lambda;
   g.sigma_color = config.guided_sigma_color;
   g.iterations = config.guided_iterations;
+  g.smooth_scale = config.guided_smooth_scale;
   g.prior_weight = config.guided_prior_weight;
   g.far_depth = config.guided_far_depth;
   g.ground_prior = config.guided_ground_prior;
@@ -101,6 +102,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.guided_lambda = g.lambda;
   config.guided_sigma_color = g.sigma_color;
   config.guided_iterations = g.iterations;
+  config.guided_smooth_scale = g.smooth_scale;
   config.guided_prior_weight = g.prior_weight;
   config.guided_far_depth = g.far_depth;
   config.guided_ground_prior = g.ground_prior;

@@ -121,6 +121,10 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
   app.add_option("--guided-iterations", ig.iterations, "smoother iterations")
       ->check(atLeast(1))
       ->group(guided);
+  app.add_option("--guided-smooth-scale", ig.smooth_scale,
+                 "the smoother runs on a grid this many times coarser than the output")
+      ->check(atLeast(1))
+      ->group(guided);
   app.add_option("--guided-prior-weight", ig.prior_weight, "confidence of the prior per pixel")
       ->check(atLeast(0))
       ->group(guided);

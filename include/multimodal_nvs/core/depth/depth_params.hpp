@@ -77,9 +77,11 @@ GroundPriorParams::Input parseGroundInput(const std::string& name);
 /// by the fast global smoother guided by the camera image, so that depth changes only where the
 /// image has an edge; the sky (no return can come from it) goes to the far clamp.
 struct ImageGuidedParams {
-  double lambda = 4000.0;      ///< smoothness weight of the fast global smoother
-  double sigma_color = 8.0;    ///< image difference (8-bit units) that counts as an edge
-  int iterations = 3;          ///< smoother iterations (each: one horizontal + vertical pass)
+  double lambda = 4000.0;    ///< smoothness weight of the fast global smoother
+  double sigma_color = 8.0;  ///< image difference (8-bit units) that counts as an edge
+  int iterations = 3;        ///< smoother iterations (each: one horizontal + vertical pass)
+  /// The smoother runs on a grid this many times coarser than the output (1: the output grid)
+  int smooth_scale = 1;
   double prior_weight = 1e-3;  ///< confidence of the ground/far prior per pixel (a return: 1)
   double far_depth = 100.0;    ///< metres: depth above the horizon and of the sky (GEN3C clamp)
   bool ground_prior = true;    ///< false: the prior is the median return depth everywhere

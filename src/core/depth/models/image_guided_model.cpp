@@ -174,6 +174,29 @@ void applySurfacePrior(const std::vector<AngularSample>& samples, const PixelAng
       16);
 }
 
+/// The smoother on the evidence sums, on a grid `smooth_scale` times coarser than the output when
+/// asked: the sums are averaged over each coarse cell (they are sums: averaging keeps their
+/// ratios), smoothed with lambda / scale^2 (the smoother's reach, in pixels, grows with
+/// sqrt(lambda): the same reach on the image) and interpolated back bilinearly.
+void smoothSums(const cv::Mat& guide, const ImageGuidedParams& g, ThreadPool& pool,
+                std::vector<cv::Mat>& sums) {
+  const int scale = g.smooth_scale;
+  if (scale <= 1) {
+    smoothAlongGuide(guide, sums, {g.lambda, g.sigma_color, 0.25, g.iterations}, pool);
+    return;
+  }
+  const cv::Size coarse((guide.cols + scale - 1) / scale, (guide.rows + scale - 1) / scale);
+  cv::Mat coarse_guide;
+  cv::resize(guide, coarse_guide, coarse, 0, 0, cv::INTER_AREA);
+  std::vector<cv::Mat> coarse_sums(sums.size());
+  for (std::size_t k = 0; k < sums.size(); ++k)
+    cv::resize(sums[k], coarse_sums[k], coarse, 0, 0, cv::INTER_AREA);
+  smoothAlongGuide(coarse_guide, coarse_sums,
+                   {g.lambda / (double(scale) * scale), g.sigma_color, 0.25, g.iterations}, pool);
+  for (std::size_t k = 0; k < sums.size(); ++k)
+    cv::resize(coarse_sums[k], sums[k], sums[k].size(), 0, 0, cv::INTER_LINEAR);
+}
+
 }  // namespace
 
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
@@ -211,57 +234,65 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   for (cv::Mat& plane : sums)
     plane.create(rows, cols, CV_32F);
   const float prior_weight = static_cast<float>(g.prior_weight);
-  for (int r = 0; r < rows; ++r) {
-    float* sum_w = sums[0].ptr<float>(r);
-    float* sum_wx = sums[1].ptr<float>(r);
-    float* sum_wxx = sums[2].ptr<float>(r);
-    for (int c = 0; c < cols; ++c) {
-      const std::size_t i = std::size_t(r) * cols + c;
-      const float xp = 1.0f / std::min(prior[i], far);
-      float w = prior_weight, wx = prior_weight * xp, wxx = prior_weight * xp * xp;
-      if (std::isfinite(returns.depth[i])) {
-        const float xr = 1.0f / returns.depth[i];
-        w += 1.0f;
-        wx += xr;
-        wxx += xr * xr;
-      }
-      sum_w[c] = w;
-      sum_wx[c] = wx;
-      sum_wxx[c] = wxx;
-    }
-  }
+  pool.parallelFor(
+      rows,
+      [&](long long row, int) {
+        const int r = static_cast<int>(row);
+        float* sum_w = sums[0].ptr<float>(r);
+        float* sum_wx = sums[1].ptr<float>(r);
+        float* sum_wxx = sums[2].ptr<float>(r);
+        for (int c = 0; c < cols; ++c) {
+          const std::size_t i = std::size_t(r) * cols + c;
+          const float xp = 1.0f / std::min(prior[i], far);
+          float w = prior_weight, wx = prior_weight * xp, wxx = prior_weight * xp * xp;
+          if (std::isfinite(returns.depth[i])) {
+            const float xr = 1.0f / returns.depth[i];
+            w += 1.0f;
+            wx += xr;
+            wxx += xr * xr;
+          }
+          sum_w[c] = w;
+          sum_wx[c] = wx;
+          sum_wxx[c] = wxx;
+        }
+      },
+      16);
   const cv::Mat edge_guide = g.edges ? guide : cv::Mat(rows, cols, CV_8UC3, cv::Scalar::all(128));
-  smoothAlongGuide(edge_guide, sums, {g.lambda, g.sigma_color, 0.25, g.iterations}, pool);
+  smoothSums(edge_guide, g, pool, sums);
 
   out.mean.resize(n);
   out.variance.resize(n);
   const float rel_return = static_cast<float>(g.return_relative_sigma);
   const float rel_prior = static_cast<float>(g.relative_sigma);
   const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
-  for (int r = 0; r < rows; ++r) {
-    const float* sum_w = sums[0].ptr<float>(r);
-    const float* sum_wx = sums[1].ptr<float>(r);
-    const float* sum_wxx = sums[2].ptr<float>(r);
-    for (int c = 0; c < cols; ++c) {
-      const std::size_t i = std::size_t(r) * cols + c;
-      if (!sky.empty() && sky[i]) {
-        out.mean[i] = far;
-        out.variance[i] = sky_variance;
-        continue;
-      }
-      // The smoother keeps sums positive up to rounding; the floor keeps the ratio finite.
-      const float w = std::max(sum_w[c], prior_weight * 1e-3f);
-      const float x = std::max(sum_wx[c] / w, 1.0f / far);
-      const float spread_x = std::max(sum_wxx[c] / w - x * x, 0.0f);
-      const float depth = std::min(1.0f / x, far);
-      const float prior_share = std::min(1.0f, prior_weight / w);
-      const float relative = rel_return + (rel_prior - rel_return) * prior_share;
-      // d = 1/x: var(d) ~ var(x) / x^4 (first order).
-      out.mean[i] = depth;
-      out.variance[i] =
-          spread_x * depth * depth * depth * depth + (relative * depth) * (relative * depth);
-    }
-  }
+  pool.parallelFor(
+      rows,
+      [&](long long row, int) {
+        const int r = static_cast<int>(row);
+        const float* sum_w = sums[0].ptr<float>(r);
+        const float* sum_wx = sums[1].ptr<float>(r);
+        const float* sum_wxx = sums[2].ptr<float>(r);
+        for (int c = 0; c < cols; ++c) {
+          const std::size_t i = std::size_t(r) * cols + c;
+          if (!sky.empty() && sky[i]) {
+            out.mean[i] = far;
+            out.variance[i] = sky_variance;
+            continue;
+          }
+          // The smoother keeps sums positive up to rounding; the floor keeps the ratio finite.
+          const float w = std::max(sum_w[c], prior_weight * 1e-3f);
+          const float x = std::max(sum_wx[c] / w, 1.0f / far);
+          const float spread_x = std::max(sum_wxx[c] / w - x * x, 0.0f);
+          const float depth = std::min(1.0f / x, far);
+          const float prior_share = std::min(1.0f, prior_weight / w);
+          const float relative = rel_return + (rel_prior - rel_return) * prior_share;
+          // d = 1/x: var(d) ~ var(x) / x^4 (first order).
+          out.mean[i] = depth;
+          out.variance[i] =
+              spread_x * depth * depth * depth * depth + (relative * depth) * (relative * depth);
+        }
+      },
+      16);
 }
 
 }  // namespace multimodal_nvs

@@ -121,6 +121,27 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
   EXPECT_GT(differ, compared / 4);
 }
 
+// On a grid twice as coarse the smoother reaches as far (lambda / 4) and still stops at the edge:
+// each half keeps its return's depth up to a pixel or two from the edge.
+TEST(ImageGuided, CoarserSmoothingGridKeepsTheEdgeAndTheDepths) {
+  mm::DepthCompletionParams p = guidedParams();
+  p.guided.ground_prior = false;
+  p.guided.sky = false;
+  mm::DepthCompleter completer(2);
+  const auto fine =
+      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+  p.guided.smooth_scale = 2;
+  const auto coarse =
+      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+  for (int c : {10, 40, 76, 84, 120, 150}) {
+    EXPECT_NEAR(at(coarse, 60, c), at(fine, 60, c), 0.05f * at(fine, 60, c)) << c;
+  }
+  EXPECT_GT(at(coarse, 80, 84) - at(coarse, 80, 76), 0.5f * (at(fine, 80, 84) - at(fine, 80, 76)));
+  p.guided.smooth_scale = 0;
+  EXPECT_THROW(completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves()),
+               mm::InputError);
+}
+
 TEST(ImageGuided, BrightUniformTopIsSkyAtTheFarClampWithItsVariance) {
   cv::Mat image = twoHalves();
   image.rowRange(0, 30).setTo(cv::Scalar(230, 210, 190));  // sky above row 30
