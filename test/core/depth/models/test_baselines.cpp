@@ -120,15 +120,25 @@ void expectNearestIsBruteForce(const mm::DepthMap& map, const std::vector<Eigen:
 
 }  // namespace
 
+namespace {
+/// `count` points 2-42 m away on the rays of random pixels in [u0, u0 + width) x [v0, v0 + height)
+/// of the small camera (seeded: the same points every run).
+std::vector<Eigen::Vector3d> randomPoints(unsigned seed, int count, double u0, double width,
+                                          double v0, double height) {
+  std::srand(seed);
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < count; ++i) {
+    const double u = u0 + width * std::rand() / RAND_MAX, v = v0 + height * std::rand() / RAND_MAX;
+    points.push_back(pointOnPixelRay(smallCamera(), u, v, 2.0 + 40.0 * std::rand() / RAND_MAX));
+  }
+  return points;
+}
+}  // namespace
+
 TEST(Baselines, NearestMatchesBruteForceOnRandomScenes) {
   const auto k = smallCamera();
-  std::srand(7);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < 300; ++i) {
-    // Also points outside the image, so some pixels' nearest samples lie beyond the border.
-    const double u = -80 + 320.0 * std::rand() / RAND_MAX, v = -60 + 240.0 * std::rand() / RAND_MAX;
-    points.push_back(pointOnPixelRay(k, u, v, 2.0 + 40.0 * std::rand() / RAND_MAX));
-  }
+  // Also points outside the image, so some pixels' nearest samples lie beyond the border.
+  const std::vector<Eigen::Vector3d> points = randomPoints(7, 300, -80, 320, -60, 240);
   const mm::DepthMap map = run(points, mm::DepthModel::kNearest, 3);
   expectNearestIsBruteForce(map, points, k);
 }
@@ -137,12 +147,7 @@ TEST(Baselines, NearestMatchesBruteForceOnRandomScenes) {
 // nearest model writes, pixel by pixel, ties included; without samples every index is -1.
 TEST(Baselines, NearestSampleIndexNamesTheSampleOfTheNearestDepth) {
   const auto k = smallCamera();
-  std::srand(5);
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < 200; ++i) {
-    const double u = -40 + 240.0 * std::rand() / RAND_MAX, v = -30 + 180.0 * std::rand() / RAND_MAX;
-    points.push_back(pointOnPixelRay(k, u, v, 2.0 + 40.0 * std::rand() / RAND_MAX));
-  }
+  std::vector<Eigen::Vector3d> points = randomPoints(5, 200, -40, 240, -30, 180);
   points.push_back(3.0 * points[9]);  // a tie: the lower index wins in both
   const mm::StrideGrid grid{smallImage(), 2};
   const mm::PixelAngleGrid angles(k, grid);

@@ -45,22 +45,32 @@ std::vector<Eigen::Vector3d> twoReturns() {
 float at(const mm::DepthMap& map, int row, int col) {
   return map.depth[std::size_t(row) * kCols + col];
 }
-}  // namespace
 
-TEST(ImageGuided, DepthChangesAtTheImageEdgeAndNotElsewhere) {
+/// The edge tests' setting: no ground plane and no sky, so that only the returns and the image
+/// shape the depth.
+mm::DepthCompletionParams edgeParams() {
   mm::DepthCompletionParams p = guidedParams();
   p.guided.ground_prior = false;
   p.guided.sky = false;
+  return p;
+}
+
+/// The two returns over the two halves.
+mm::DepthMap twoHalvesDepth(mm::DepthCompleter& completer, const mm::DepthCompletionParams& p) {
+  return completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+}
+}  // namespace
+
+TEST(ImageGuided, DepthChangesAtTheImageEdgeAndNotElsewhere) {
+  mm::DepthCompletionParams p = edgeParams();
   mm::DepthCompleter completer(2);
-  const auto map =
-      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+  const auto map = twoHalvesDepth(completer, p);
   // Each return colours its own half up to the edge.
   EXPECT_NEAR(at(map, 80, 78), 5.0f, 0.5f);
   EXPECT_NEAR(at(map, 80, 82), 20.0f, 2.0f);
   // Without the image (the ablation), the two depths blur into each other across column 80.
   p.guided.edges = false;
-  const auto blurred =
-      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+  const auto blurred = twoHalvesDepth(completer, p);
   EXPECT_GT(std::abs(at(map, 80, 82) - at(map, 80, 78)),
             2.0f * std::abs(at(blurred, 80, 82) - at(blurred, 80, 78)));
 }
@@ -124,22 +134,17 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
 // On a grid twice as coarse the smoother reaches as far (lambda / 4) and still stops at the edge:
 // each half keeps its return's depth up to a pixel or two from the edge.
 TEST(ImageGuided, CoarserSmoothingGridKeepsTheEdgeAndTheDepths) {
-  mm::DepthCompletionParams p = guidedParams();
-  p.guided.ground_prior = false;
-  p.guided.sky = false;
+  mm::DepthCompletionParams p = edgeParams();
   mm::DepthCompleter completer(2);
-  const auto fine =
-      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+  const auto fine = twoHalvesDepth(completer, p);
   p.guided.smooth_scale = 2;
-  const auto coarse =
-      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves());
+  const auto coarse = twoHalvesDepth(completer, p);
   for (int c : {10, 40, 76, 84, 120, 150}) {
     EXPECT_NEAR(at(coarse, 60, c), at(fine, 60, c), 0.05f * at(fine, 60, c)) << c;
   }
   EXPECT_GT(at(coarse, 80, 84) - at(coarse, 80, 76), 0.5f * (at(fine, 80, 84) - at(fine, 80, 76)));
   p.guided.smooth_scale = 0;
-  EXPECT_THROW(completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, twoHalves()),
-               mm::InputError);
+  EXPECT_THROW(twoHalvesDepth(completer, p), mm::InputError);
 }
 
 TEST(ImageGuided, BrightUniformTopIsSkyAtTheFarClampWithItsVariance) {
