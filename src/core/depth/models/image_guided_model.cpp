@@ -202,7 +202,7 @@ void smoothSums(const cv::Mat& guide, const ImageGuidedParams& g, ThreadPool& po
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, const GroundPlane& plane,
                         const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
-                        const std::vector<float>* model_prior) {
+                        const PixelPredictions* model_prior) {
   const ImageGuidedParams& g = params.guided;
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
@@ -219,11 +219,11 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   if (model_prior != nullptr) {
     // Another model's prediction (ground_gp's) is the prior: it already holds the ground, the
     // nearest surfaces and its own fit to the returns; the smoother adds the image's edges.
-    if (model_prior->size() != n)
+    if (model_prior->mean.size() != n || model_prior->variance.size() != n)
       throw InputError("image_guided: the model prior has the wrong size");
     // The sky keeps the far clamp as its evidence, so that it does not pull its edge nearer.
     for (std::size_t i = 0; i < n; ++i) {
-      const float d = (*model_prior)[i];
+      const float d = model_prior->mean[i];
       if ((sky.empty() || !sky[i]) && d > 0.0f && std::isfinite(d)) prior[i] = std::min(d, far);
     }
   } else if (g.surface_prior) {
@@ -285,11 +285,20 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
           const float spread_x = std::max(sum_wxx[c] / w - x * x, 0.0f);
           const float depth = std::min(1.0f / x, far);
           const float prior_share = std::min(1.0f, prior_weight / w);
-          const float relative = rel_return + (rel_prior - rel_return) * prior_share;
           // d = 1/x: var(d) ~ var(x) / x^4 (first order).
+          const float mixing = spread_x * depth * depth * depth * depth;
           out.mean[i] = depth;
-          out.variance[i] =
-              spread_x * depth * depth * depth * depth + (relative * depth) * (relative * depth);
+          const float prior_variance = model_prior != nullptr ? model_prior->variance[i] : NAN;
+          if (std::isfinite(prior_variance)) {
+            // Another model's prior brings its own (calibrated) variance: it holds where only
+            // the prior speaks, a return's relative std where the returns do.
+            const float at_return = rel_return * depth;
+            out.variance[i] = mixing + prior_share * prior_variance +
+                              (1.0f - prior_share) * at_return * at_return;
+          } else {
+            const float relative = rel_return + (rel_prior - rel_return) * prior_share;
+            out.variance[i] = mixing + (relative * depth) * (relative * depth);
+          }
         }
       },
       16);

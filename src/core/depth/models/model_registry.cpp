@@ -93,7 +93,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     PixelPredictions prior;
     const int sets =
         predictWithModel(samples, angles, ground_gp, shift, pool, prior, image, nullptr, scratch);
-    predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior.mean);
+    predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior);
     return sets;
   }
   if (params.model == DepthModel::kGroundGp && choice.dense) {

@@ -101,8 +101,8 @@ TEST(ImageGuided, LateralPriorContinuesAWallTowardsTheImageCentre) {
 }
 
 // With ground_gp's prediction as the prior and a smoother too weak to move evidence, every pixel
-// without a return shows ground_gp's depth (capped at the far clamp); with the model's own prior
-// the same pixels differ.
+// without a return shows ground_gp's depth (capped at the far clamp) and variance; with the
+// model's own prior the same pixels differ.
 TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
   const cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128));
   const std::vector<Eigen::Vector3d> returns = {pointOnPixelRay(smallCamera(), 30, 70, 8.0),
@@ -124,6 +124,10 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
     for (int c = 0; c < kCols; c += 7) {
       const float want = std::min(at(ground_gp, r, c), 100.0f);
       ASSERT_NEAR(at(hybrid, r, c), want, 1e-4f * want) << r << " " << c;
+      // Where only the prior speaks, its variance is ground_gp's (calibrated) variance.
+      const std::size_t i = std::size_t(r) * kCols + c;
+      ASSERT_NEAR(hybrid.variance[i], ground_gp.variance[i], 1e-3f * ground_gp.variance[i])
+          << r << " " << c;
       differ += std::abs(at(own, r, c) - want) > 0.01f * want;
       ++compared;
     }

@@ -19,13 +19,14 @@ struct GroundPlane;
 
 /// `image_guided` (image_guided_model.cpp). `image`: the camera image at the grid's full image
 /// size (8-bit or 16-bit, 1, 3 or 4 channels, BGR order). Throws InputError when it is missing or
-/// of another size. `model_prior`: another model's depth per grid pixel (row-major; +inf or NaN
-/// where it has none) that replaces the ground and surface prior (guided.ground_gp_prior:
-/// ground_gp's prediction); nullptr: the model's own prior.
+/// of another size. `model_prior`: another model's prediction per grid pixel (row-major; a mean
+/// of +inf or NaN where it has none) that replaces the ground and surface prior, its variance
+/// standing in where only the prior speaks (guided.ground_gp_prior: ground_gp's prediction);
+/// nullptr: the model's own prior.
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, const GroundPlane& plane,
                         const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
-                        const std::vector<float>* model_prior = nullptr);
+                        const PixelPredictions* model_prior = nullptr);
 
 /// The image at the grid's pixels (u = 0, s, 2s, ...), 8-bit BGR. Throws InputError when the image
 /// is empty, of another size than grid.image or of an unsupported type.
