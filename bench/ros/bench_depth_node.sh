@@ -8,7 +8,8 @@
 #        SENSOR=lidar bench/ros/bench_depth_node.sh build 1
 # Environment: SENSOR (radar | lidar), MODEL (default: the config's), RATE (camera, 15 Hz),
 # POINTS_RATE (LiDAR, 10 Hz), FRAMES (scans, 150), WITH_POINTS=1 also subscribes to the coloured
-# cloud.
+# cloud, EXTRA_PARAMS YAML lines (separated by ';') appended to the config, for parameters it does
+# not set (e.g. EXTRA_PARAMS='guided_ground_gp_prior: true').
 cd "$(dirname "$0")/../.."
 BUILD_DIR=${1:-build}
 shift || true
@@ -23,6 +24,7 @@ for stride in $STRIDES; do
   edits=(-e "s/^stride: .*/stride: $stride/")
   [[ -n "${MODEL:-}" ]] && edits+=(-e "s/^model: .*/model: $MODEL/")
   sed "${edits[@]}" "config/${SENSOR:-radar}.yaml" > "$params"
+  [[ -n "${EXTRA_PARAMS:-}" ]] && tr ';' '\n' <<< "$EXTRA_PARAMS" >> "$params"
   start_launch bench_depth_node_launch depth_completion.launch params:="$params"
   echo -n "stride $stride: "
   "$BENCH_BIN/bench_depth_node" --vod-root "$VOD_ROOT" --sensor "${SENSOR:-radar}" \
