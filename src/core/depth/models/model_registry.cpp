@@ -59,54 +59,23 @@ bool isBaseline(DepthModel model) {
   return baselineModel(model) != nullptr;
 }
 
-int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                     const DepthCompletionParams& params, double shift, ThreadPool& pool,
-                     PixelPredictions& out, const cv::Mat& image, GroundChoice* ground,
-                     ModelScratch* scratch) {
-  if (const BaselineModel baseline = baselineModel(params.model)) {
-    baseline(samples, angles, params, pool, out);
-    return 0;
-  }
-  // ground_gp on LiDAR triangulates its returns: the serial triangulation starts now, on its own
-  // thread, and overlaps the ground plane's fit. Only when dense input is asked for: in the auto
-  // mode the fit decides, and a radar scan would not need the triangles.
-  using Input = GroundPriorParams::Input;
-  BackgroundTriangulation triangulation(samples, angles,
-                                        params.model == DepthModel::kGroundGp &&
-                                            params.ground.input == Input::kDense &&
-                                            pool.size() > 1);
-  // Both models that stand on the ground take its plane (and ground_gp its mode) from the returns
-  // when they allow it, else from the pose or the parameters.
-  GroundChoice choice;
-  if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
-    choice = chooseGround(samples, angles, params);
-    if (ground) *ground = choice;
-  }
-  if (params.model == DepthModel::kImageGuided) {
-    if (!params.guided.ground_gp_prior) {
-      predictImageGuided(samples, angles, params, choice.plane, image, pool, out);
-      return 0;
-    }
-    // ground_gp first (its own ground choice, the same as above), then its depth as the prior.
-    DepthCompletionParams ground_gp = params;
-    ground_gp.model = DepthModel::kGroundGp;
-    PixelPredictions prior;
-    const int sets =
-        predictWithModel(samples, angles, ground_gp, shift, pool, prior, image, nullptr, scratch);
-    predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior);
-    return sets;
-  }
-  if (params.model == DepthModel::kGroundGp && choice.dense) {
+namespace {
+
+/// ground_gp once its ground is chosen: dense input interpolates its triangles, large neighbour
+/// sets take the tile approximation, the rest the exact sets. Returns the number of sets.
+int predictGroundGpModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                         const DepthCompletionParams& params, const GroundChoice& choice,
+                         double shift, ThreadPool& pool, PixelPredictions& out,
+                         GroundChoice* ground, ModelScratch* scratch,
+                         BackgroundTriangulation& triangulation) {
+  if (choice.dense) {
     // Dense input needs no neighbour sets: the interpolating prior is the prediction.
     ModelScratch local;
     predictGroundGpDense(samples, angles, params, choice.plane, medianDepth(samples, params, shift),
                          pool, out, scratch != nullptr ? *scratch : local, triangulation);
     return 0;
   }
-  if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
-    return predictTiledLocalGp(samples, angles, params, shift, pool, out);
-  }
-  if (params.model == DepthModel::kGroundGp && groundGpUsesTiles(samples, angles, params)) {
+  if (groundGpUsesTiles(samples, angles, params)) {
     // No neighbour sets: building them alone takes longer than the whole approximation.
     if (ground) ground->tiled_residual = true;
     DepthCompletionParams tiled = params;
@@ -117,11 +86,63 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
   }
   const NeighbourSets sets =
       NeighbourSets::build(samples, angles, static_cast<float>(params.radius_deg), pool);
+  predictGroundGp(samples, angles, &sets, params, choice.plane, medianDepth(samples, params, shift),
+                  pool, out);
+  return sets.setCount();
+}
+
+}  // namespace
+
+int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                     const DepthCompletionParams& params, double shift, ThreadPool& pool,
+                     PixelPredictions& out, const cv::Mat& image, GroundChoice* ground,
+                     ModelScratch* scratch) {
+  if (const BaselineModel baseline = baselineModel(params.model)) {
+    baseline(samples, angles, params, pool, out);
+    return 0;
+  }
+  // image_guided may start from ground_gp's prediction: it then runs ground_gp first.
+  const bool runs_ground_gp =
+      params.model == DepthModel::kGroundGp ||
+      (params.model == DepthModel::kImageGuided && params.guided.ground_gp_prior);
+  // ground_gp on LiDAR triangulates its returns: the serial triangulation starts now, on its own
+  // thread, and overlaps the ground plane's fit. Only when dense input is asked for: in the auto
+  // mode the fit decides, and a radar scan would not need the triangles.
+  using Input = GroundPriorParams::Input;
+  BackgroundTriangulation triangulation(
+      samples, angles, runs_ground_gp && params.ground.input == Input::kDense && pool.size() > 1);
+  // Both models that stand on the ground take its plane (and ground_gp its mode) from the returns
+  // when they allow it, else from the pose or the parameters.
+  GroundChoice choice;
+  if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
+    choice = chooseGround(samples, angles, params);
+    if (ground) *ground = choice;
+  }
+  if (params.model == DepthModel::kGroundGp) {
+    return predictGroundGpModel(samples, angles, params, choice, shift, pool, out, ground, scratch,
+                                triangulation);
+  }
+  if (params.model == DepthModel::kImageGuided) {
+    if (!runs_ground_gp) {
+      predictImageGuided(samples, angles, params, choice.plane, image, pool, out);
+      return 0;
+    }
+    // ground_gp first, on the same ground, then its prediction as the prior.
+    DepthCompletionParams ground_gp = params;
+    ground_gp.model = DepthModel::kGroundGp;
+    PixelPredictions prior;
+    const int sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior,
+                                          ground, scratch, triangulation);
+    predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior);
+    return sets;
+  }
+  if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {
+    return predictTiledLocalGp(samples, angles, params, shift, pool, out);
+  }
+  const NeighbourSets sets =
+      NeighbourSets::build(samples, angles, static_cast<float>(params.radius_deg), pool);
   if (params.model == DepthModel::kLocalGpMle) {
     predictLocalGp(samples, angles, sets, params, shift, pool, out);
-  } else if (params.model == DepthModel::kGroundGp) {
-    predictGroundGp(samples, angles, &sets, params, choice.plane,
-                    medianDepth(samples, params, shift), pool, out);
   } else {
     predictKernel(samples, angles, sets, params, shift, pool, out);
   }

@@ -477,6 +477,15 @@ TEST(GroundGpTiled, SwitchesOnlyWhenNeighbourSetsAreLarge) {
   EXPECT_EQ(completeSmallImage(wallAndCar(6), groundGpParams(mm::GroundPriorParams::Input::kSparse))
                 .stats.ground_mode,
             "sparse");
+  // image_guided on ground_gp's prediction runs the same ground_gp and reports its mode.
+  mm::DepthCompletionParams guided = params;
+  guided.model = mm::DepthModel::kImageGuided;
+  guided.guided.ground_gp_prior = true;
+  const cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(90));
+  mm::DepthCompleter completer(2);
+  EXPECT_EQ(completer.complete(wallAndCar(2), smallCamera(), {smallImage(), 1}, guided, image)
+                .stats.ground_mode,
+            "sparse_tiled");
 }
 
 TEST(GroundGpTiled, ResidualGpIsCloseToTheExactOneAndIndependentOfThreads) {
