@@ -8,8 +8,8 @@
 #
 # Environment: DATA, FRAMES (A-B; default 8350-8365 with DATA), DEMO_OUTPUT (default
 # <repo>/demo_output), DEMO_SCALE (synthetic image scale, 0.5), DEMO_SENSOR (radar|lidar, radar),
-# DEMO_RETAIN (retention percent; default the sensor's config: radar 100, LiDAR 80), DEMO_GEN3C_SIZE ("H W" of the conditioning renders and
-# the GEN3C export; default see below), DEMO_THREADS (0 = all cores), DEMO_ROS (0 skips the ROS
+# DEMO_RETAIN (retention percent; default retain_percent of config/SENSOR.yaml), DEMO_GEN3C_SIZE
+# ("H W" of the conditioning renders and the GEN3C export; default see below), DEMO_THREADS (0 = all cores), DEMO_ROS (0 skips the ROS
 # stage), DEMO_ROS_RATE (bag playback rate, 1), DEMO_ROS_PORT (master port; default a free one),
 # DEMO_RVIZ (0 skips the rviz screenshot).
 #
@@ -32,10 +32,7 @@ PY=/usr/bin/python3
 OUT=${DEMO_OUTPUT:-$REPO/demo_output}
 SCALE=${DEMO_SCALE:-0.5}
 SENSOR=${DEMO_SENSOR:-radar}
-# The sensor's config/*.yaml retention: radar keeps every prediction, LiDAR 80 % (README).
-DEFAULT_RETAIN=100
-[[ "$SENSOR" == lidar ]] && DEFAULT_RETAIN=80
-RETAIN=${DEMO_RETAIN:-$DEFAULT_RETAIN}
+RETAIN=${DEMO_RETAIN:-$("$REPO/scripts/config_retention.sh" "$SENSOR")}
 THREADS=${DEMO_THREADS:-0}
 
 STAGES=(scene bag ros rviz depth render report)

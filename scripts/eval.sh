@@ -29,9 +29,8 @@
 #   EVAL_SCENE_CACHE where generated scenes are kept (default $EVAL_OUTPUT/scenes); a scene is
 #                    regenerated only when its arguments, scale or frame count change
 #   EVAL_SCENE_SCALE image scale of the synthetic scenes (default 0.5: 968x608)
-#   EVAL_RETENTION   retention (%) of the novel-view depth (default: the configs', radar 100 as in
-#                    config/radar.yaml, LiDAR 80 as in config/lidar.yaml); VoD 08350 also at 80
-#                    and 100
+#   EVAL_RETENTION   retention (%) of the novel-view depth (default: each sensor's retain_percent
+#                    in config/radar.yaml and config/lidar.yaml); VoD 08350 also at 80 and 100
 #   EVAL_MODEL_ARGS  extra options of every depth run (tuning on dev: "--guided-lambda 1000")
 #   EVAL_SCENE_DEPTH_FRAMES frames of the synthetic depth metrics (default 0, the novel-view frame)
 #   EVAL_KEEP_FRAMES=1 keeps the rendered frames of the novel-view runs
@@ -80,8 +79,8 @@ SCENE_SCALE=${EVAL_SCENE_SCALE:-0.5}
 SCENE_FRAMES=16
 SCENE_DEPTH_FRAMES=${EVAL_SCENE_DEPTH_FRAMES:-0}
 # Novel-view retention per input: the configs' unless EVAL_RETENTION sets one for both.
-RADAR_RETENTION=${EVAL_RETENTION:-100}
-LIDAR_RETENTION=${EVAL_RETENTION:-80}
+RADAR_RETENTION=${EVAL_RETENTION:-$("$REPO/scripts/config_retention.sh" radar)}
+LIDAR_RETENTION=${EVAL_RETENTION:-$("$REPO/scripts/config_retention.sh" lidar)}
 
 # Depth models of the tables. On LiDAR input the GP uses the documented tile approximation (the
 # exact GP takes about a minute per frame on 1-in-4 LiDAR even at stride 4: measured 58 s).

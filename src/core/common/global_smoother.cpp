@@ -9,6 +9,7 @@
 // instead of divided by it, so results agree with OpenCV's to float rounding, not bit for bit.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -20,7 +21,7 @@ constexpr int kRowBlock = 4;      // rows solved together: independent chains fo
 constexpr int kColumnChunk = 64;  // columns per task of the vertical pass (its scratch in cache)
 
 /// -exp(-sqrt(i) / sigma) for every squared BGR distance i (OpenCV's table: 3 * 256 * 256).
-/// Kept for the last sigma: 196,608 exponentials cost as much as a third of a smoothing pass.
+/// Kept for the last sigma, so that a stream of frames builds it (196,608 exponentials) once.
 std::shared_ptr<const std::vector<float>> weightTable(float sigma) {
   static std::mutex mutex;
   static float cached_sigma = 0.0f;
