@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "benchmark_main.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
@@ -361,4 +362,6 @@ BENCHMARK(BM_Radar08350_NeighbourSets)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_GpPrediction)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_KeepLowestVariance)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  return multimodal_nvs::runBenchmarks(argc, argv);
+}

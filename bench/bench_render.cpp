@@ -8,6 +8,7 @@
 #include <cmath>
 #include <opencv2/core.hpp>
 
+#include "benchmark_main.hpp"
 #include "multimodal_nvs/core/render/backprojection.hpp"
 #include "multimodal_nvs/core/render/render_burst.hpp"
 #include "multimodal_nvs/core/render/splatting.hpp"
@@ -99,4 +100,6 @@ static void renderCases(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_Render121Zbuffer)->Apply(renderCases);
 BENCHMARK(BM_Render121Gen3c)->Apply(renderCases);
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  return multimodal_nvs::runBenchmarks(argc, argv);
+}

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "benchmark_main.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/depth_params.hpp"
@@ -210,4 +211,6 @@ BENCHMARK(BM_LidarDefault)
     ->UseRealTime()
     ->MinTime(0.5);
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  return multimodal_nvs::runBenchmarks(argc, argv);
+}

@@ -15,6 +15,7 @@
 #include "multimodal_nvs/core/common/colormap.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/json_output.hpp"
+#include "multimodal_nvs/core/common/retain_freed_memory.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/io/camera_info_yaml.hpp"
@@ -335,7 +336,8 @@ int run(int argc, char** argv) {
   Options o;
   declareOptions(app, o);
   if (!mm::cli::parse(app, argc, argv)) return 0;
-  paramsFrom(o);  // parameter errors before any input is read
+  mm::retainFreedMemory();  // each frame (and --repeat) allocates tens of MB of per-pixel buffers
+  paramsFrom(o);            // parameter errors before any input is read
   const std::vector<FrameJob> jobs = jobsFrom(o);
   const bool many = mm::cli::framesGiven(o.frames);
 

@@ -20,6 +20,7 @@
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/json_output.hpp"
+#include "multimodal_nvs/core/common/retain_freed_memory.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/retention.hpp"
@@ -259,6 +260,7 @@ int run(int argc, char** argv) {
   Options o;
   declareOptions(app, o);
   if (!mm::cli::parse(app, argc, argv)) return 0;
+  mm::retainFreedMemory();  // every model on every frame allocates tens of MB of per-pixel buffers
   const std::string& root = o.vod_root;
   const std::vector<int> frames = mm::cli::selectedFrames(o.frames);
   const mm::cli::Shard shard = mm::cli::parseShard(o.frames.shard);
