@@ -32,7 +32,7 @@ PY=/usr/bin/python3
 OUT=${DEMO_OUTPUT:-$REPO/demo_output}
 SCALE=${DEMO_SCALE:-0.5}
 SENSOR=${DEMO_SENSOR:-radar}
-RETAIN=${DEMO_RETAIN:-$("$REPO/scripts/config_retention.sh" "$SENSOR")}
+RETAIN=${DEMO_RETAIN:-$("$REPO/scripts/config_value.sh" "$SENSOR" retain_percent)}
 THREADS=${DEMO_THREADS:-0}
 
 STAGES=(scene bag ros rviz depth render report)
@@ -206,9 +206,9 @@ stage_rviz() {
   cat "$ROS_OUT/rviz/shares.txt"
 }
 
-# The package's best model (ground plane from the frame's pose); DEMO_MODEL=local_gp_mle shows the
+# The sensor's model as the node runs it (config/SENSOR.yaml); DEMO_MODEL=local_gp_mle shows the
 # reference-equivalent one.
-DEPTH_MODEL=${DEMO_MODEL:-ground_gp}
+DEPTH_MODEL=${DEMO_MODEL:-$("$REPO/scripts/config_value.sh" "$SENSOR" model)}
 describe_depth() { echo "complete_depth ($DEPTH_MODEL) on frame $FID ($SENSOR, retain $RETAIN %)"; }
 stage_depth() {
   require_tool complete_depth

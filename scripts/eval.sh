@@ -79,8 +79,8 @@ SCENE_SCALE=${EVAL_SCENE_SCALE:-0.5}
 SCENE_FRAMES=16
 SCENE_DEPTH_FRAMES=${EVAL_SCENE_DEPTH_FRAMES:-0}
 # Novel-view retention per input: the configs' unless EVAL_RETENTION sets one for both.
-RADAR_RETENTION=${EVAL_RETENTION:-$("$REPO/scripts/config_retention.sh" radar)}
-LIDAR_RETENTION=${EVAL_RETENTION:-$("$REPO/scripts/config_retention.sh" lidar)}
+RADAR_RETENTION=${EVAL_RETENTION:-$("$REPO/scripts/config_value.sh" radar retain_percent)}
+LIDAR_RETENTION=${EVAL_RETENTION:-$("$REPO/scripts/config_value.sh" lidar retain_percent)}
 
 # Depth models of the tables. On LiDAR input the GP uses the documented tile approximation (the
 # exact GP takes about a minute per frame on 1-in-4 LiDAR even at stride 4: measured 58 s).

@@ -700,10 +700,10 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   config.var_threshold = 4.0;
   config.stride = 3;
   config.guided_lateral_prior = false;
-  config.guided_ground_gp_prior = true;
+  config.guided_ground_gp_prior = false;  // the default is true
   const mm::DepthCompletionSettings settings = mm::settingsFromConfig(config);
   EXPECT_FALSE(settings.params.guided.lateral_prior);
-  EXPECT_TRUE(settings.params.guided.ground_gp_prior);
+  EXPECT_FALSE(settings.params.guided.ground_gp_prior);
   EXPECT_EQ(settings.params.model, mm::DepthModel::kKernel);
   EXPECT_EQ(settings.params.shift.mode, mm::DepthShift::Mode::kValue);
   EXPECT_EQ(settings.params.shift.value, 12.5);
@@ -713,7 +713,7 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   EXPECT_EQ(back.model, "kernel");
   EXPECT_EQ(back.stride, 3);
   EXPECT_FALSE(back.guided_lateral_prior);
-  EXPECT_TRUE(back.guided_ground_gp_prior);
+  EXPECT_FALSE(back.guided_ground_gp_prior);
   EXPECT_EQ(mm::settingsFromConfig(back).params.shift.value, 12.5);
 
   config.model = "no_such_model";

@@ -91,9 +91,11 @@ struct ImageGuidedParams {
   /// true: a nearest return continues as a wall along the viewing direction (constant lateral
   /// offset) towards the image centre, instead of at its own depth (surface_prior must be on)
   bool lateral_prior = true;
-  /// true: the prior is ground_gp's prediction (same parameters) instead of the ground and
-  /// surface prior above; the smoother spreads the returns along the image on top of it
-  bool ground_gp_prior = false;
+  /// true: on sparse input (ground_gp's sparse mode, i.e. radar) the prior is ground_gp's
+  /// prediction (same parameters) instead of the ground and surface prior above, and the smoother
+  /// spreads the returns along the image on top of it; dense input (LiDAR) always takes the
+  /// ground and surface prior
+  bool ground_gp_prior = true;
   bool edges = true;              ///< false: a uniform guide (no image edges; the ablation)
   bool sky = true;                ///< detect the sky and send it to far_depth
   double sky_gradient = 12.0;     ///< image gradient (8-bit units) that ends the sky in a column

@@ -19,13 +19,16 @@ using mm::test::smallImage;
 namespace {
 constexpr int kCols = 160;
 
-/// The model's defaults; the tests of the edges and the variance switch the lateral prior off, so
-/// that every pixel of a half starts from the same prior (its own test is below).
+/// The model's defaults on its own ground and nearest-surface prior (on these few returns it would
+/// otherwise stand on ground_gp's prediction; that prior has its own tests below); the tests of the
+/// edges and the variance switch the lateral prior off, so that every pixel of a half starts from
+/// the same prior (its own test is below).
 mm::DepthCompletionParams guidedParams(bool lateral_prior = false) {
   mm::DepthCompletionParams p;
   p.model = mm::DepthModel::kImageGuided;
   p.threads = 2;
   p.guided.lateral_prior = lateral_prior;
+  p.guided.ground_gp_prior = false;
   return p;
 }
 
@@ -133,6 +136,39 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
     }
   }
   EXPECT_GT(differ, compared / 4);
+}
+
+// ground_gp's prediction is the prior on sparse input only: on input handled as dense (LiDAR;
+// the auto choice between the modes has its own tests with ground_gp) switching it on changes
+// nothing, while on the same scan thinned to radar density and handled as sparse it does.
+TEST(ImageGuided, GroundGpPriorOnlyOnSparseInput) {
+  std::vector<Eigen::Vector3d> dense;
+  for (int v = 40; v < smallImage().height; ++v) {
+    for (int u = 0; u < kCols; ++u) {
+      dense.push_back(pointOnPixelRay(smallCamera(), u, v, u < 80 ? 6.0 + 0.02 * v : 18.0));
+    }
+  }
+  std::vector<Eigen::Vector3d> sparse;
+  for (std::size_t i = 0; i < dense.size(); i += 97)
+    sparse.push_back(dense[i]);
+  mm::DepthCompleter completer(2);
+  mm::DepthCompletionParams p = guidedParams(true);
+  const cv::Mat image = twoHalves();
+  using Input = mm::GroundPriorParams::Input;
+  const auto complete = [&](const std::vector<Eigen::Vector3d>& points, bool ground_gp_prior) {
+    p.guided.ground_gp_prior = ground_gp_prior;
+    p.ground.input = points.size() == dense.size() ? Input::kDense : Input::kSparse;
+    return completer.complete(points, smallCamera(), {smallImage(), 1}, p, image);
+  };
+  const auto dense_own = complete(dense, false);
+  const auto dense_gp = complete(dense, true);
+  EXPECT_EQ(dense_gp.stats.ground_mode, "dense");
+  EXPECT_EQ(dense_own.depth, dense_gp.depth);
+  EXPECT_EQ(dense_own.variance, dense_gp.variance);
+  const auto sparse_own = complete(sparse, false);
+  const auto sparse_gp = complete(sparse, true);
+  EXPECT_NE(sparse_gp.stats.ground_mode, "dense");
+  EXPECT_NE(sparse_own.depth, sparse_gp.depth);
 }
 
 // On a grid twice as coarse the smoother reaches as far (lambda / 4) and still stops at the edge:
