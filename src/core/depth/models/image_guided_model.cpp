@@ -174,15 +174,16 @@ void applySurfacePrior(const std::vector<AngularSample>& samples, const PixelAng
       16);
 }
 
-/// The smoother on the evidence sums, on a grid `smooth_scale` times coarser than the output when
-/// asked: the sums are averaged over each coarse cell (they are sums: averaging keeps their
-/// ratios), smoothed with lambda / scale^2 (the smoother's reach, in pixels, grows with
-/// sqrt(lambda): the same reach on the image) and interpolated back bilinearly.
-void smoothSums(const cv::Mat& guide, const ImageGuidedParams& g, ThreadPool& pool,
+/// The smoother on the evidence sums with `lambda` (already per output grid pixel), on a grid
+/// `smooth_scale` times coarser than the output when asked: the sums are averaged over each coarse
+/// cell (they are sums: averaging keeps their ratios), smoothed with lambda / scale^2 (the
+/// smoother's reach, in pixels, grows with sqrt(lambda): the same reach on the image) and
+/// interpolated back bilinearly.
+void smoothSums(const cv::Mat& guide, const ImageGuidedParams& g, double lambda, ThreadPool& pool,
                 std::vector<cv::Mat>& sums) {
   const int scale = g.smooth_scale;
   if (scale <= 1) {
-    smoothAlongGuide(guide, sums, {g.lambda, g.sigma_color, 0.25, g.iterations}, pool);
+    smoothAlongGuide(guide, sums, {lambda, g.sigma_color, 0.25, g.iterations}, pool);
     return;
   }
   const cv::Size coarse((guide.cols + scale - 1) / scale, (guide.rows + scale - 1) / scale);
@@ -192,7 +193,7 @@ void smoothSums(const cv::Mat& guide, const ImageGuidedParams& g, ThreadPool& po
   for (std::size_t k = 0; k < sums.size(); ++k)
     cv::resize(sums[k], coarse_sums[k], coarse, 0, 0, cv::INTER_AREA);
   smoothAlongGuide(coarse_guide, coarse_sums,
-                   {g.lambda / (double(scale) * scale), g.sigma_color, 0.25, g.iterations}, pool);
+                   {lambda / (double(scale) * scale), g.sigma_color, 0.25, g.iterations}, pool);
   for (std::size_t k = 0; k < sums.size(); ++k)
     cv::resize(coarse_sums[k], sums[k], sums[k].size(), 0, 0, cv::INTER_LINEAR);
 }
@@ -233,7 +234,13 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   std::vector<cv::Mat> sums(3);
   for (cv::Mat& plane : sums)
     plane.create(rows, cols, CV_32F);
-  const float prior_weight = static_cast<float>(g.prior_weight);
+  // lambda and prior_weight are per image pixel; a grid pixel at output stride s stands for s^2
+  // of them. So the prior weighs s^2 times more per grid pixel (a return still weighs 1: it falls
+  // into one grid pixel at any stride), and the smoother takes lambda / s^2, the same reach on the
+  // image. Without this a stride-2 grid spread each return twice as far against a quarter of the
+  // prior (radar, 100 % kept, MAE m: Astyx 5.02 at stride 1, 6.72 at stride 2; now 5.02 at both).
+  const double grid_pixel_area = double(grid.stride) * grid.stride;
+  const float prior_weight = static_cast<float>(g.prior_weight * grid_pixel_area);
   pool.parallelFor(
       rows,
       [&](long long row, int) {
@@ -258,7 +265,7 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
       },
       16);
   const cv::Mat edge_guide = g.edges ? guide : cv::Mat(rows, cols, CV_8UC3, cv::Scalar::all(128));
-  smoothSums(edge_guide, g, pool, sums);
+  smoothSums(edge_guide, g, g.lambda / grid_pixel_area, pool, sums);
 
   out.mean.resize(n);
   out.variance.resize(n);

@@ -171,6 +171,38 @@ TEST(ImageGuided, GroundGpPriorOnlyOnSparseInput) {
   EXPECT_NE(sparse_own.depth, sparse_gp.depth);
 }
 
+// lambda and prior_weight are per image pixel: at output stride 2 the depth matches the full-
+// resolution depth at the same image pixels, and the parameters taken per grid pixel (lambda 4x
+// the reach, a quarter of the prior's weight: what the model did before) match it worse.
+TEST(ImageGuided, StrideKeepsTheSmoothersReachOnTheImage) {
+  const std::vector<Eigen::Vector3d> returns = {pointOnPixelRay(smallCamera(), 30, 20, 7.0),
+                                                pointOnPixelRay(smallCamera(), 60, 100, 12.0),
+                                                pointOnPixelRay(smallCamera(), 100, 60, 4.0)};
+  const cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(100));
+  mm::DepthCompleter completer(2);
+  mm::DepthCompletionParams p = guidedParams();
+  p.guided.sky = false;
+  const auto full = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  const auto strided = completer.complete(returns, smallCamera(), {smallImage(), 2}, p, image);
+  p.guided.lambda *= 4.0;
+  p.guided.prior_weight /= 4.0;
+  const auto per_grid_pixel =
+      completer.complete(returns, smallCamera(), {smallImage(), 2}, p, image);
+  const int half_cols = kCols / 2;
+  double error = 0.0, error_per_grid_pixel = 0.0;
+  for (int r = 0; r < smallImage().height; r += 2) {
+    for (int c = 0; c < kCols; c += 2) {
+      const float want = at(full, r, c);
+      const std::size_t i = std::size_t(r / 2) * half_cols + c / 2;
+      error += std::abs(strided.depth[i] - want) / want;
+      error_per_grid_pixel += std::abs(per_grid_pixel.depth[i] - want) / want;
+    }
+  }
+  const double pixels = double(smallImage().height / 2) * half_cols;
+  EXPECT_LT(error / pixels, 0.01);
+  EXPECT_GT(error_per_grid_pixel, 5.0 * error);
+}
+
 // On a grid twice as coarse the smoother reaches as far (lambda / 4) and still stops at the edge:
 // each half keeps its return's depth up to a pixel or two from the edge.
 TEST(ImageGuided, CoarserSmoothingGridKeepsTheEdgeAndTheDepths) {
