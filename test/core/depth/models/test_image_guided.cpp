@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -296,4 +297,39 @@ TEST(ImageGuided, NoReturnsGiveTheSmoothedGroundPrior) {
   EXPECT_LT(at(map, 115, 40), at(map, 90, 40));
   for (float d : map.depth)
     ASSERT_TRUE(d > 0.0f && d <= 100.0f);
+}
+
+// The radar default (ground_gp's prediction as the prior) on degenerate scans: none, one return,
+// returns behind the camera or not finite, many returns on one pixel, a return at 0.01 m and one
+// at 10 km. Each gives finite, positive depth and variance on every pixel, or an InputError.
+TEST(ImageGuided, GroundGpPriorSurvivesDegenerateScans) {
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kImageGuided;
+  p.threads = 2;
+  ASSERT_TRUE(p.guided.ground_gp_prior);
+  const double nan = std::nan("");
+  const std::vector<std::vector<Eigen::Vector3d>> scans = {
+      {},
+      {pointOnPixelRay(smallCamera(), 60, 80, 9.0)},
+      {{0.0, 0.0, -5.0}, {1.0, 2.0, -0.5}},
+      {{nan, 0.0, 5.0}, {0.0, std::numeric_limits<double>::infinity(), 5.0}},
+      std::vector<Eigen::Vector3d>(50, pointOnPixelRay(smallCamera(), 100, 40, 6.0)),
+      {pointOnPixelRay(smallCamera(), 70, 70, 0.01), pointOnPixelRay(smallCamera(), 20, 20, 1e4)},
+  };
+  mm::DepthCompleter completer(2);
+  int completed = 0;
+  for (std::size_t k = 0; k < scans.size(); ++k) {
+    try {
+      const auto map =
+          completer.complete(scans[k], smallCamera(), {smallImage(), 1}, p, twoHalves());
+      for (std::size_t i = 0; i < map.depth.size(); ++i) {
+        ASSERT_TRUE(std::isfinite(map.depth[i]) && map.depth[i] > 0.0f) << k << " " << i;
+        ASSERT_TRUE(std::isfinite(map.variance[i]) && map.variance[i] > 0.0f) << k << " " << i;
+      }
+      ++completed;
+    } catch (const mm::InputError& e) {
+      SUCCEED() << "scan " << k << ": " << e.what();
+    }
+  }
+  EXPECT_GE(completed, 4);  // at least the empty, single, repeated and extreme scans complete
 }
