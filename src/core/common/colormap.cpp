@@ -67,10 +67,16 @@ cv::Mat colorizeWithScaleBar(const cv::Mat& values, const cv::Mat& valid, double
 
   // Scale bar: a vertical gradient with tick labels, height of the image, on a white margin.
   const int bar_width = std::max(20, values.cols / 40);
-  const int margin = bar_width * 4 + 40;
+  const double font = std::max(0.35, values.rows / 900.0);
+  // Room for the label above the bar and the top tick's text below it, and for the label's width.
+  int baseline = 0;
+  const cv::Size label_size = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, font, 1, &baseline);
+  const int margin = std::max(bar_width * 4 + 40, label_size.width + 20);
   cv::Mat canvas(values.rows, values.cols + margin, CV_8UC3, cv::Scalar(255, 255, 255));
   colored.copyTo(canvas(cv::Rect(0, 0, values.cols, values.rows)));
-  const int top = std::max(20, values.rows / 20), bottom = values.rows - top;
+  const int wanted_top = std::max({20, values.rows / 20, 2 * label_size.height + baseline + 12});
+  const int top = std::min(wanted_top, std::max(1, (values.rows - 2) / 2));  // tiny images too
+  const int bottom = values.rows - top;
   cv::Mat gradient(bottom - top, 1, CV_8UC1);
   for (int i = 0; i < gradient.rows; ++i) {
     gradient.at<uint8_t>(i) = static_cast<uint8_t>(255 - 255 * i / std::max(1, gradient.rows - 1));
@@ -81,7 +87,6 @@ cv::Mat colorizeWithScaleBar(const cv::Mat& values, const cv::Mat& valid, double
              cv::INTER_NEAREST);
   const int x0 = values.cols + 10;
   gradient_colored.copyTo(canvas(cv::Rect(x0, top, bar_width, gradient.rows)));
-  const double font = std::max(0.35, values.rows / 900.0);
   for (int t = 0; t <= 4; ++t) {
     const double v = vmax - (vmax - vmin) * t / 4.0;
     const int y = top + (bottom - top - 1) * t / 4;
@@ -91,7 +96,7 @@ cv::Mat colorizeWithScaleBar(const cv::Mat& values, const cv::Mat& valid, double
     cv::putText(canvas, text, {x0 + bar_width + 8, y + 5}, cv::FONT_HERSHEY_SIMPLEX, font,
                 cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   }
-  cv::putText(canvas, label, {x0, std::max(12, top - 6)}, cv::FONT_HERSHEY_SIMPLEX, font,
+  cv::putText(canvas, label, {x0, label_size.height + 4}, cv::FONT_HERSHEY_SIMPLEX, font,
               cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   return canvas;
 }

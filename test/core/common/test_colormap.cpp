@@ -2,6 +2,7 @@
 
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "multimodal_nvs/core/common/colormap.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
@@ -53,6 +54,22 @@ TEST(ColorizeWithScaleBar, DrawsHiddenPixelsGreyAndAppendsTheBar) {
   EXPECT_EQ(canvas.at<cv::Vec3b>(1, 1), cv::Vec3b(40, 40, 40));
   EXPECT_EQ(canvas.at<cv::Vec3b>(2, 3), cv::Vec3b(40, 40, 40));
   EXPECT_EQ(canvas.at<cv::Vec3b>(0, 0), mm::ColorScale(0.0, 4.0, cv::COLORMAP_JET)(2.0f));
+}
+
+// A long label widens the margin instead of being cut at the image's edge, and an image too
+// small for the usual margins still gets its bar.
+TEST(ColorizeWithScaleBar, FitsLongLabelsAndTinyImages) {
+  const std::string label = "standard deviation of the depth [m]";
+  cv::Mat values(64, 96, CV_32FC1, cv::Scalar(2.0f));
+  cv::Mat valid(64, 96, CV_8UC1, cv::Scalar(1));
+  int baseline = 0;
+  const int font_width = cv::getTextSize(label, cv::FONT_HERSHEY_SIMPLEX, 0.35, 1, &baseline).width;
+  EXPECT_GE(mm::colorizeWithScaleBar(values, valid, 0.0, 4.0, label).cols, 96 + font_width);
+  cv::Mat tiny(6, 8, CV_32FC1, cv::Scalar(1.0f));
+  cv::Mat tiny_valid(6, 8, CV_8UC1, cv::Scalar(1));
+  const cv::Mat canvas = mm::colorizeWithScaleBar(tiny, tiny_valid, 0.0, 4.0, "m");
+  EXPECT_EQ(canvas.rows, 6);
+  EXPECT_GT(canvas.cols, 8);
 }
 
 }  // namespace
