@@ -80,8 +80,10 @@ TEST(GroundPlaneEstimate, PreciseReturnsGiveThePlaneAndTheDenseMode) {
   const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
   mm::DepthCompletionParams params;
   params.model = mm::DepthModel::kGroundGp;
-  // Sparse by the old spacing rule (every 8th pixel, ~4.6 deg apart): precision decides now.
-  const auto samples = mm::toAngularSamples(roadScan(1.7, 4.0, 8, 0.0));
+  // Sparse by the half-radius spacing rule (every 3rd pixel, ~1.7 deg apart, r = 2 deg): the
+  // precise fit decides, with returns within the radius of each other.
+  const auto samples = mm::toAngularSamples(roadScan(1.7, 4.0, 3, 0.0));
+  ASSERT_FALSE(mm::groundInputIsDense(samples, angles, params));
   const mm::GroundChoice choice = mm::chooseGround(samples, angles, params);
   EXPECT_TRUE(choice.dense);
   EXPECT_EQ(choice.source, mm::GroundPriorParams::PlaneSource::kReturns);
@@ -95,6 +97,23 @@ TEST(GroundPlaneEstimate, PreciseReturnsGiveThePlaneAndTheDenseMode) {
   // A forced mode wins.
   params.ground.input = mm::GroundPriorParams::Input::kSparse;
   EXPECT_FALSE(mm::chooseGround(samples, angles, params).dense);
+}
+
+TEST(GroundPlaneEstimate, PreciseButSparseScatteredReturnsKeepTheSparseMode) {
+  // A radar mounted high sees much road: returns every 8th pixel (~4.6 deg apart, not on scan
+  // lines), exactly on the plane. The plane is taken from them, the mode stays sparse.
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  const std::vector<Eigen::Vector3d> points = roadScan(1.7, 4.0, 8, 0.0);
+  const auto samples = mm::toAngularSamples(points);
+  const mm::GroundChoice choice = mm::chooseGround(samples, angles, params);
+  EXPECT_GE(choice.inlier_fraction, params.ground.precise_fraction);
+  EXPECT_EQ(choice.source, mm::GroundPriorParams::PlaneSource::kReturns);
+  EXPECT_NEAR(choice.plane.height, 1.7, 0.05);
+  EXPECT_GT(mm::meanSampleSpacingDeg(samples, angles), params.radius_deg);
+  EXPECT_LT(choice.scan_line_share, 0.4);
+  EXPECT_FALSE(choice.dense);
 }
 
 TEST(GroundPlaneEstimate, RadarLikeReturnsKeepTheGivenPlaneAndTheSparseMode) {

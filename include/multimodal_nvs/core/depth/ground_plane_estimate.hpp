@@ -40,8 +40,8 @@ struct GroundChoice {
   double inlier_fraction = 0.0;  ///< of the RANSAC fit (0 when not fitted)
   /// Share of the returns in view whose nearest other return lies along the image rows (within
   /// 20 deg of horizontal): ~0.2 for scattered returns (radar), 0.5-1 for a scanning LiDAR's rings.
-  /// Computed only when the mode is judged from the returns and the inlier fraction alone does
-  /// not make them LiDAR-precise (else -1).
+  /// Computed only when the mode is judged from the returns and neither a low inlier fraction
+  /// nor a precise fit with dense returns decides it (else -1).
   double scan_line_share = -1.0;
   bool plane_fitted = false;  ///< a fit was attempted and gave a plausible plane
   /// Sparse mode: the residual GP ran the tile approximation (large neighbour sets), not the exact
@@ -55,10 +55,11 @@ GroundPlane givenGroundPlane(const GroundPriorParams& params);
 /// The plane and the mode of ground_gp for these returns. Plane: the returns' RANSAC plane when
 /// params.estimate_plane and the fit holds at least precise_fraction of the returns, else the
 /// given one (params.plane_source says whether a pose or the parameters gave it). Mode
-/// (params.input auto): dense when the returns are LiDAR-precise (that same test) or when they lie
-/// on scan lines (scanLineShare >= 0.4) with at least 10 % of them on the ground plane; sparse when
-/// a fit was possible and neither holds; without a possible fit (too few returns, or all on one
-/// scan plane) the mean-spacing rule of groundInputIsDense decides.
+/// (params.input auto): dense when the returns are LiDAR-precise (that same test, and their mean
+/// spacing at most params.radius_deg or most of them on scan lines: a radar mounted high also fits
+/// the road well) or when they lie on scan lines (scanLineShare >= 0.4) with at least 10 % of them
+/// on the ground plane; sparse when a fit was possible and neither holds; without a possible fit
+/// (too few returns, or all on one scan plane) the mean-spacing rule of groundInputIsDense decides.
 GroundChoice chooseGround(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                           const DepthCompletionParams& params);
 

@@ -516,10 +516,8 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
 
 }  // namespace
 
-bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                        const DepthCompletionParams& params) {
-  using Input = GroundPriorParams::Input;
-  if (params.ground.input != Input::kAuto) return params.ground.input == Input::kDense;
+double meanSampleSpacingDeg(const std::vector<AngularSample>& samples,
+                            const PixelAngleGrid& angles) {
   // Angular extent of the view and the samples inside it.
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
@@ -535,12 +533,18 @@ bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAn
     in_view += s.depth > 0.0f && s.azimuth_deg >= az0 && s.azimuth_deg <= az1 &&
                s.elevation_deg >= el0 && s.elevation_deg <= el1;
   }
-  if (in_view == 0) return false;
+  if (in_view == 0) return std::numeric_limits<double>::infinity();
+  return std::sqrt(double(az1 - az0) * double(el1 - el0) / double(in_view));
+}
+
+bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                        const DepthCompletionParams& params) {
+  using Input = GroundPriorParams::Input;
+  if (params.ground.input != Input::kAuto) return params.ground.input == Input::kDense;
   // Dense when a neighbourhood of the reference radius holds on average more than ~4 pi samples:
   // the regime where the exact local GP solves hundreds of samples per set and where neighbour
   // sets stop repeating. Radar (VoD: ~3 deg apart) stays sparse, 1-in-4 LiDAR (~0.5 deg) is dense.
-  const double spacing = std::sqrt(double(az1 - az0) * double(el1 - el0) / double(in_view));
-  return spacing <= 0.5 * params.radius_deg;
+  return meanSampleSpacingDeg(samples, angles) <= 0.5 * params.radius_deg;
 }
 
 void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,

@@ -29,8 +29,13 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
                           double median_depth, ThreadPool& pool, PixelPredictions& out,
                           ModelScratch& scratch, BackgroundTriangulation& triangulation);
 
-/// Whether `ground_gp` runs its dense-input mode: params.ground.input, or for auto whether the mean
-/// angular spacing sqrt(view area / samples in view) is at most half of params.radius_deg.
+/// Mean angular spacing of the samples in the camera's view, sqrt(view area / samples in view), in
+/// degrees; infinity when none is in view.
+double meanSampleSpacingDeg(const std::vector<AngularSample>& samples,
+                            const PixelAngleGrid& angles);
+
+/// Whether `ground_gp` runs its dense-input mode: params.ground.input, or for auto whether
+/// meanSampleSpacingDeg is at most half of params.radius_deg.
 bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params);
 
