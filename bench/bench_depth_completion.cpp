@@ -79,8 +79,9 @@ void runCompletion(benchmark::State& state, int frame, const std::string& sensor
   camera.distortion = lens;
   cv::Mat image;  // only image_guided reads the camera image
   if (params.model == mm::DepthModel::kImageGuided) {
-    image = cv::imread(mm::io::VodFrame{dataDir() + "/vod", frame}.image(), cv::IMREAD_COLOR);
-    if (image.empty()) return state.SkipWithError("VoD camera image not found");
+    image =
+        cv::imread(mm::io::VodFrame{dataDir() + "/" + dataset, frame}.image(), cv::IMREAD_COLOR);
+    if (image.empty()) return state.SkipWithError((dataset + " camera image not found").c_str());
   }
   mm::DepthCompleter completer(params.threads);
   mm::DepthMap map;  // reused across scans, as a node does
@@ -128,15 +129,25 @@ void BM_RadarAstyx_GroundGp_Retain80(benchmark::State& state) {
   runCompletion(state, static_cast<int>(state.range(0)), "radar",
                 radarYamlParams(mm::DepthModel::kGroundGp), {}, "astyx", kAstyxFullResolution);
 }
-// image_guided at full resolution, radar.yaml's ground and retention.
+// image_guided at full resolution on its own ground and nearest-surface prior
+// (--guided-ground-gp-prior 0), radar.yaml's ground and retention.
 void BM_Radar08350_ImageGuided_Retain80(benchmark::State& state) {
-  runCompletion(state, 8350, "radar", radarYamlParams(mm::DepthModel::kImageGuided));
+  mm::DepthCompletionParams p = radarYamlParams(mm::DepthModel::kImageGuided);
+  p.guided.ground_gp_prior = false;
+  runCompletion(state, 8350, "radar", p);
 }
-// The same with ground_gp's prediction as the smoother's prior (--guided-ground-gp-prior 1).
+// The same with ground_gp's prediction as the smoother's prior: radar.yaml's model.
 void BM_Radar08350_ImageGuidedGroundGpPrior_Retain80(benchmark::State& state) {
   mm::DepthCompletionParams p = radarYamlParams(mm::DepthModel::kImageGuided);
   p.guided.ground_gp_prior = true;
   runCompletion(state, 8350, "radar", p);
+}
+// radar.yaml's model on the Astyx imaging radar (frames as above).
+void BM_RadarAstyx_ImageGuidedGroundGpPrior_Retain80(benchmark::State& state) {
+  mm::DepthCompletionParams p = radarYamlParams(mm::DepthModel::kImageGuided);
+  p.guided.ground_gp_prior = true;
+  runCompletion(state, static_cast<int>(state.range(0)), "radar", p, {}, "astyx",
+                kAstyxFullResolution);
 }
 // The same with a lens model: the per-frame cost of honouring CameraInfo.D.
 void BM_Radar08350_GroundGp_Retain80_PlumbBob(benchmark::State& state) {
@@ -336,6 +347,10 @@ BENCHMARK(BM_Radar08350_ImageGuided_Retain80)->Unit(benchmark::kMillisecond)->Mi
 BENCHMARK(BM_Radar08350_ImageGuidedGroundGpPrior_Retain80)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
+BENCHMARK(BM_RadarAstyx_ImageGuidedGroundGpPrior_Retain80)
+    ->Arg(0)
+    ->Arg(3)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_Kernel)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_GroundGp_Retain80_PlumbBob)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_Kernel_PlumbBob)->Unit(benchmark::kMillisecond)->MinTime(2.0);

@@ -15,6 +15,8 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <opencv2/core.hpp>
 #include <random>
 #include <string>
 #include <vector>
@@ -161,6 +163,25 @@ std::vector<Eigen::Vector3d> lidarScan(const Street& street, const mm::synthetic
   return scan(trial_step * double(trial) / count);
 }
 
+/// A camera image of the street for image_guided (its smoother's edges and its sky test read it):
+/// grey levels falling with the depth of the surface each pixel's ray hits, bright where it hits
+/// nothing (the sky). The smoother's cost does not depend on the content; the sky test's does a
+/// little.
+cv::Mat streetImage(const Street& street, const mm::synthetic::CameraModel& cam) {
+  const mm::PinholeIntrinsics& k = cam.intrinsics;
+  cv::Mat image(cam.size.height, cam.size.width, CV_8UC3);
+  for (int v = 0; v < image.rows; ++v) {
+    for (int u = 0; u < image.cols; ++u) {
+      Eigen::Vector3d p;
+      const bool hit = street.hit({(u - k.cx) / k.fx, (v - k.cy) / k.fy, 1.0}, &p);
+      const auto grey =
+          static_cast<std::uint8_t>(hit ? std::clamp(800.0 / (4.0 + p.z()), 20.0, 200.0) : 230.0);
+      image.at<cv::Vec3b>(v, u) = cv::Vec3b(grey, grey, grey);
+    }
+  }
+  return image;
+}
+
 /// Runs the default model of `config` on a synthetic scan; args: returns in view, stride (0: the
 /// config's), image pixels in percent of VoD's.
 void runScaling(benchmark::State& state, const std::string& config, bool lidar) {
@@ -173,11 +194,13 @@ void runScaling(benchmark::State& state, const std::string& config, bool lidar) 
   const std::vector<Eigen::Vector3d> points =
       lidar ? lidarScan(street, camera, count) : radarScan(street, camera, count);
   const mm::StrideGrid grid{camera.size, stride};
+  const cv::Mat image =
+      model.params.model == mm::DepthModel::kImageGuided ? streetImage(street, camera) : cv::Mat();
   mm::DepthCompleter completer(model.params.threads);
   mm::DepthMap map;  // reused across scans, as a node does
-  completer.complete(points, camera.intrinsics, grid, model.params, map);  // camera setup
+  completer.complete(points, camera.intrinsics, grid, model.params, map, image);  // camera setup
   for (auto _ : state) {
-    completer.complete(points, camera.intrinsics, grid, model.params, map);
+    completer.complete(points, camera.intrinsics, grid, model.params, map, image);
     benchmark::DoNotOptimize(map.depth.data());
   }
   state.counters["in_view"] = static_cast<double>(map.stats.points_in_view);
