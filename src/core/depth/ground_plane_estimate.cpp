@@ -239,24 +239,22 @@ GroundChoice chooseGround(const std::vector<AngularSample>& samples, const Pixel
   }
   if (g.input != Input::kAuto) {
     choice.dense = g.input == Input::kDense;
-  } else if (precise) {
-    // A precise ground fit alone does not make a LiDAR: a radar mounted high sees much road, and
-    // synthetic radar scans of 49-200 returns held 25-32 % of them on the plane, which sent 4 of
-    // the 14 scenes to the dense mode (triangles between returns degrees apart; on real radar
-    // that mode's MAE is 3-4x the sparse one's). A LiDAR is dense or lies on scan lines (1 in 4
-    // rings of nuScenes' 32-beam scan: rings 5.4 deg apart, mean spacing above the radius).
-    choice.dense = meanSampleSpacingDeg(samples, angles) <= params.radius_deg;
-    if (!choice.dense) {
-      choice.scan_line_share = scanLineShare(samples, angles);
-      choice.dense = choice.scan_line_share >= kScanLineShare;
-    }
+  } else if (precise && meanSampleSpacingDeg(samples, angles) <= params.radius_deg) {
+    // LiDAR-precise and dense. A precise ground fit alone does not make a LiDAR: a radar mounted
+    // high sees much road, and synthetic radar scans of 49-200 returns held 25-32 % of them on the
+    // plane, which sent 4 of the 14 scenes to the dense mode (triangles between returns degrees
+    // apart; on real radar that mode's MAE is 3-4x the sparse one's). Precise but sparse returns
+    // take the scan-line test below (1 in 4 rings of nuScenes' 32-beam scan: rings 5.4 deg apart,
+    // mean spacing above the radius, on scan lines).
+    choice.dense = true;
   } else if (judged) {
     // Rings of a LiDAR whose scan holds few road returns (a tall or pitched mount, traffic around):
     // the inlier fraction alone took them for radar (measured on synthetic 16- and 64-beam scans:
-    // 0.19-0.23 on the road, MAE 3.4-6.3 m in the sparse mode against 2.4-2.9 m dense).
+    // 0.19-0.23 on the road, MAE 3.4-6.3 m in the sparse mode against 2.4-2.9 m dense). A precise
+    // fit already holds enough ground returns.
     choice.scan_line_share = scanLineShare(samples, angles);
-    choice.dense =
-        choice.scan_line_share >= kScanLineShare && fit.inlier_fraction >= kScanLineGroundFraction;
+    choice.dense = choice.scan_line_share >= kScanLineShare &&
+                   (precise || fit.inlier_fraction >= kScanLineGroundFraction);
   } else {
     choice.dense = groundInputIsDense(samples, angles, params);
   }
