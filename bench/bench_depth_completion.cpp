@@ -136,17 +136,18 @@ void BM_Radar08350_ImageGuided_Retain80(benchmark::State& state) {
   p.guided.ground_gp_prior = false;
   runCompletion(state, 8350, "radar", p);
 }
-// The same with ground_gp's prediction as the smoother's prior: radar.yaml's model.
-void BM_Radar08350_ImageGuidedGroundGpPrior_Retain80(benchmark::State& state) {
+/// radar.yaml's model: image_guided with ground_gp's prediction as the smoother's prior.
+mm::DepthCompletionParams radarDefaultParams() {
   mm::DepthCompletionParams p = radarYamlParams(mm::DepthModel::kImageGuided);
   p.guided.ground_gp_prior = true;
-  runCompletion(state, 8350, "radar", p);
+  return p;
+}
+void BM_Radar08350_ImageGuidedGroundGpPrior_Retain80(benchmark::State& state) {
+  runCompletion(state, 8350, "radar", radarDefaultParams());
 }
 // radar.yaml's model on the Astyx imaging radar (frames as above).
 void BM_RadarAstyx_ImageGuidedGroundGpPrior_Retain80(benchmark::State& state) {
-  mm::DepthCompletionParams p = radarYamlParams(mm::DepthModel::kImageGuided);
-  p.guided.ground_gp_prior = true;
-  runCompletion(state, static_cast<int>(state.range(0)), "radar", p, {}, "astyx",
+  runCompletion(state, static_cast<int>(state.range(0)), "radar", radarDefaultParams(), {}, "astyx",
                 kAstyxFullResolution);
 }
 // The same with a lens model: the per-frame cost of honouring CameraInfo.D.
