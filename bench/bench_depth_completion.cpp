@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "benchmark_main.hpp"
+#include "multimodal_nvs/core/common/global_smoother.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
@@ -312,6 +313,32 @@ void BM_Radar08350_GpPrediction(benchmark::State& state) {
     mm::predictLocalGp(samples, grid, sets, params, shift, pool, out);
 }
 
+// image_guided's smoother alone: the three evidence sums of VoD 08350's full-resolution image
+// (random positive values: the cost does not depend on them), the model's parameters.
+void BM_Radar08350_GlobalSmoother(benchmark::State& state) {
+  const cv::Mat guide = cv::imread(mm::io::VodFrame{dataDir() + "/vod", 8350}.image(),
+                                   cv::IMREAD_COLOR);
+  if (guide.empty()) return state.SkipWithError("VoD camera image not found");
+  cv::setRNGSeed(1);
+  std::vector<cv::Mat> evidence(3);
+  for (cv::Mat& plane : evidence) {
+    plane.create(guide.size(), CV_32F);
+    cv::randu(plane, 0.01, 1.0);
+  }
+  const mm::ImageGuidedParams model;
+  const mm::GlobalSmootherParams params{model.lambda, model.sigma_color, 0.25, model.iterations};
+  mm::ThreadPool pool(0);
+  std::vector<cv::Mat> planes(3);
+  for (auto _ : state) {
+    state.PauseTiming();
+    for (std::size_t p = 0; p < planes.size(); ++p)
+      evidence[p].copyTo(planes[p]);
+    state.ResumeTiming();
+    mm::smoothAlongGuide(guide, planes, params, pool);
+    benchmark::DoNotOptimize(planes[0].data);
+  }
+}
+
 // keepLowestVariance alone on the variances and candidates of the two retain-80 cases above
 // (0: exact local_gp_mle, the threshold in a tie of two thirds of the pixels at the prior
 // variance; 1: ground_gp, few pixels near the threshold).
@@ -376,6 +403,7 @@ BENCHMARK(BM_Radar08350_PixelAngleGrid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_PixelAngleGrid_PlumbBob)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_NeighbourSets)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_GpPrediction)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Radar08350_GlobalSmoother)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_KeepLowestVariance)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 int main(int argc, char** argv) {
