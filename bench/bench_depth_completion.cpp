@@ -316,8 +316,8 @@ void BM_Radar08350_GpPrediction(benchmark::State& state) {
 // image_guided's smoother alone: the three evidence sums of VoD 08350's full-resolution image
 // (random positive values: the cost does not depend on them), the model's parameters.
 void BM_Radar08350_GlobalSmoother(benchmark::State& state) {
-  const cv::Mat guide = cv::imread(mm::io::VodFrame{dataDir() + "/vod", 8350}.image(),
-                                   cv::IMREAD_COLOR);
+  const cv::Mat guide =
+      cv::imread(mm::io::VodFrame{dataDir() + "/vod", 8350}.image(), cv::IMREAD_COLOR);
   if (guide.empty()) return state.SkipWithError("VoD camera image not found");
   cv::setRNGSeed(1);
   std::vector<cv::Mat> evidence(3);

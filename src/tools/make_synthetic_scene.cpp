@@ -90,6 +90,11 @@ void declareOptions(CLI::App& app, Options& o) {
                  "share of radar returns that are clutter")
       ->check(CLI::Range(0.0, 1.0))
       ->group(sensors);
+  app.add_option("--radar-pass-through", p.radar.pass_through,
+                 "share of radar detections from the surface behind the first one (under "
+                 "vehicles, through foliage, multipath)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->group(sensors);
   app.add_option("--lidar-range-sigma", p.lidar.range_sigma, "LiDAR range noise (m)")
       ->check(mm::cli::atLeast(0))
       ->group(sensors);

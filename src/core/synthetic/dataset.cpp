@@ -64,6 +64,8 @@ void SyntheticDatasetParams::validate() const {
           "radar: candidates >= 0 and clutter fraction in [0, 0.9)");
   require(radar.range_sigma >= 0 && radar.azimuth_sigma_deg >= 0 && radar.elevation_sigma_deg >= 0,
           "radar noise must be >= 0");
+  require(radar.pass_through >= 0.0 && radar.pass_through <= 1.0,
+          "radar: pass-through share in [0, 1]");
   require(lidar.rings >= 1 && lidar.azimuth_step_deg > 0.01 && lidar.range_sigma >= 0,
           "lidar: rings >= 1, azimuth step > 0.01 deg, noise >= 0");
   require(std::isfinite(camera_height) && camera_height >= 0.3 && camera_height <= 5.0,
@@ -173,6 +175,7 @@ void SyntheticDataset::write(const std::string& root,
          << ", \"radar_azimuth_sigma_deg\": " << params_.radar.azimuth_sigma_deg
          << ", \"radar_elevation_sigma_deg\": " << params_.radar.elevation_sigma_deg
          << ", \"radar_clutter_fraction\": " << params_.radar.clutter_fraction
+         << ", \"radar_pass_through\": " << params_.radar.pass_through
          << ", \"radar_candidates\": " << params_.radar.candidates
          << ", \"lidar_range_sigma\": " << params_.lidar.range_sigma
          << ", \"lidar_beams\": " << params_.lidar.rings << ", \"lidar_elevation_deg\": ["

@@ -224,6 +224,14 @@ std::vector<RadarReturn> simulateRadar(const SyntheticScene& scene,
     const double probability = SyntheticScene::radarReflectivity(hit.material) *
                                (0.3 + 0.7 * incidence) * (1.0 - 0.5 * hit.t / p.max_range);
     if (detect_draw >= probability) continue;
+    // Drawn only when asked, so that scenes made without it keep their random sequence.
+    if (p.pass_through > 0.0 && rng.uniform() < p.pass_through) {
+      const Ray behind{hit.point + 1e-3 * ray.direction, ray.direction};
+      Hit next;
+      if (!scene.intersect(behind, next, 1e-6, p.max_range - hit.t)) continue;
+      next.t += hit.t + 1e-3;
+      hit = next;
+    }
     // One detection per resolution cell (azimuth x elevation x range), as a radar resolves them.
     const std::array<long, 3> cell{std::lround(az / (p.azimuth_cell_deg * kDeg)),
                                    std::lround(el / (p.elevation_cell_deg * kDeg)),

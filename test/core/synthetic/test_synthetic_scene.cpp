@@ -284,6 +284,42 @@ TEST(SyntheticScene, NoiseFreeReturnsLieExactlyOnTheSurfacesTheCameraSees) {
   }
 }
 
+// A radar sees past the first surface (under vehicles, through foliage, multipath): with
+// pass_through 1 every detection comes from the surface behind the first one the radar meets, so
+// most noise-free returns lie behind the visible surface instead of on it.
+TEST(SyntheticScene, RadarPassThroughPutsReturnsBehindTheVisibleSurface) {
+  for (const double pass_through : {0.0, 1.0}) {
+    SCOPED_TRACE("pass_through " + std::to_string(pass_through));
+    syn::SyntheticDatasetParams p = noiseFree(smallParams(11, 1));
+    p.radar.pass_through = pass_through;
+    const std::string root = freshDir("pass_through");
+    syn::SyntheticDataset(p).write(root);
+    const io::VodFrame f{root, 0};
+    const DepthImage depth = readDepth(root + "/depth_gt/" + f.id() + ".npy");
+    const auto values = io::readFloatRecords(f.points("radar"), 7);
+    const io::KittiCalib calib = io::readKittiCalib(f.calib("radar"));
+    int planar = 0, on_surface = 0, behind = 0;
+    for (std::size_t j = 0; j < values.size(); j += 7) {
+      const SurfaceResidual r =
+          surfaceResidual(Eigen::Vector3d(values[j], values[j + 1], values[j + 2]), calib, depth);
+      if (!r.planar) continue;
+      ++planar;
+      on_surface += std::abs(r.residual) < 1e-4 * r.z;
+      behind += r.residual > 0.2 * (r.z - r.residual);  // 20 % behind the visible depth
+    }
+    ASSERT_GT(planar, 20);
+    if (pass_through == 0.0) {
+      EXPECT_GT(on_surface, 0.85 * planar);
+      EXPECT_LT(behind, 0.1 * planar);
+    } else {
+      // Not all leave the visible surface: where the radar's first surface is hidden from the
+      // camera (parallax) the surface behind it can be the visible one.
+      EXPECT_LT(on_surface, 0.3 * planar) << on_surface << " of " << planar;
+      EXPECT_GT(behind, 0.3 * planar) << behind << " of " << planar;
+    }
+  }
+}
+
 TEST(SyntheticScene, NoisyReturnsLieOnTheSurfacesWithinTheSimulatedNoise) {
   const std::string root = freshDir("noisy");
   const syn::SyntheticDatasetParams p = smallParams(12);
@@ -530,12 +566,13 @@ TEST(SyntheticScene, ToolTakesTheSceneVariationsAndRejectsBadOnes) {
                           " --scale 0.05 --num-frames 1 --quiet --lidar-azimuth-step 2 "
                           "--camera-height 2.2 --camera-pitch -4 --lidar-beams 16 "
                           "--radar-candidates 500 --radar-clutter 0.2 --vehicles 3 "
-                          "--pedestrians 5 --poles 4 --speed 10");
+                          "--pedestrians 5 --poles 4 --speed 10 --radar-pass-through 0.9");
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   const std::string meta = readBytes(root + "/scene.json");
-  for (const char* key : {"\"camera_height\": 2.2", "\"camera_pitch_deg\": -4",
-                          "\"lidar_beams\": 16", "\"radar_candidates\": 500", "\"pedestrians\": 5",
-                          "\"extra_poles\": 4", "\"extra_vehicles\": 3"}) {
+  for (const char* key :
+       {"\"camera_height\": 2.2", "\"camera_pitch_deg\": -4", "\"lidar_beams\": 16",
+        "\"radar_candidates\": 500", "\"pedestrians\": 5", "\"extra_poles\": 4",
+        "\"extra_vehicles\": 3", "\"radar_pass_through\": 0.9"}) {
     EXPECT_NE(meta.find(key), std::string::npos) << key << " not in " << meta;
   }
   const struct {
@@ -546,6 +583,7 @@ TEST(SyntheticScene, ToolTakesTheSceneVariationsAndRejectsBadOnes) {
       {"--camera-height 0.1", "camera height", 1},
       {"--camera-pitch 45", "camera pitch", 1},
       {"--pedestrians -1", "occluders", 1},
+      {"--radar-pass-through 1.5", "--radar-pass-through", 2},
   };
   for (const auto& c : cases) {
     const auto r = runTool("--output " + root + " --scale 0.05 --num-frames 1 --quiet " + c.args);
