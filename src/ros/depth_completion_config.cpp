@@ -57,6 +57,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   g.sky = config.guided_sky;
   g.sky_gradient = config.guided_sky_gradient;
   g.sky_brightness = config.guided_sky_brightness;
+  g.sky_max_warmth = config.guided_sky_max_warmth;
   g.sky_sigma = config.guided_sky_sigma;
   g.relative_sigma = config.guided_relative_sigma;
   g.return_relative_sigma = config.guided_return_relative_sigma;
@@ -113,6 +114,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.guided_sky = g.sky;
   config.guided_sky_gradient = g.sky_gradient;
   config.guided_sky_brightness = g.sky_brightness;
+  config.guided_sky_max_warmth = g.sky_max_warmth;
   config.guided_sky_sigma = g.sky_sigma;
   config.guided_relative_sigma = g.relative_sigma;
   config.guided_return_relative_sigma = g.return_relative_sigma;

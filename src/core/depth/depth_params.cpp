@@ -141,6 +141,7 @@ void ImageGuidedParams::validate(const GroundPriorParams& plane) const {
       fail("lambda, sigma_color, prior_weight and far_depth must be finite and > 0");
     }
   }
+  if (std::isnan(sky_max_warmth)) fail("sky_max_warmth must be a number");
   const double non_negative[] = {sky_gradient, sky_brightness, sky_sigma, relative_sigma,
                                  return_relative_sigma};
   for (double v : non_negative) {

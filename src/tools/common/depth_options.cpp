@@ -152,6 +152,9 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "the sky is at least this bright (8-bit)")
       ->check(atLeast(0))
       ->group(guided);
+  app.add_option("--guided-sky-max-warmth", ig.sky_max_warmth,
+                 "the sky is at most this much redder than blue (8-bit; 255: no colour test)")
+      ->group(guided);
   app.add_option("--guided-sky-sigma", ig.sky_sigma, "std (m) of the sky's depth")
       ->check(positive())
       ->group(guided);

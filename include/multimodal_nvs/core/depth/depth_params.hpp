@@ -100,8 +100,11 @@ struct ImageGuidedParams {
   bool sky = true;                ///< detect the sky and send it to far_depth
   double sky_gradient = 12.0;     ///< image gradient (8-bit units) that ends the sky in a column
   double sky_brightness = 120.0;  ///< the sky is at least this bright (8-bit gray)
-  double sky_sigma = 1.0;         ///< std (metres) of the sky's depth
-  double relative_sigma = 0.25;   ///< std / depth where only the prior speaks
+  /// The sky is at most this much redder than blue (8-bit): real skies measured -140..+8 (95th
+  /// percentile of the detected sky, VoD, Astyx, nuScenes); plain beige facades and signs more.
+  double sky_max_warmth = 10.0;
+  double sky_sigma = 1.0;               ///< std (metres) of the sky's depth
+  double relative_sigma = 0.25;         ///< std / depth where only the prior speaks
   double return_relative_sigma = 0.05;  ///< std / depth at a return
   int splat_radius_px = 0;              ///< a return covers this many grid pixels around it
 

@@ -67,7 +67,7 @@ cv::Mat guideOnGrid(const cv::Mat& image, const StrideGrid& grid) {
 
 std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>& prior,
                                   float far_depth, const std::vector<int>& top_return_row,
-                                  double gradient, double brightness) {
+                                  double gradient, double brightness, double max_warmth) {
   const int rows = guide.rows, cols = guide.cols;
   cv::Mat gray, gx, gy;
   cv::cvtColor(guide, gray, cv::COLOR_BGR2GRAY);
@@ -82,6 +82,8 @@ std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>
       const std::size_t i = std::size_t(r) * cols + c;
       if (prior[i] < far_depth || gray.at<std::uint8_t>(r, c) < brightness) break;
       if (std::hypot(gx.at<float>(r, c), gy.at<float>(r, c)) > limit) break;
+      const cv::Vec3b& bgr = guide.at<cv::Vec3b>(r, c);
+      if (int(bgr[2]) - int(bgr[0]) > max_warmth) break;
       sky[i] = 1;
     }
   }
@@ -215,7 +217,10 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
                                             : std::vector<float>(n, medianDepth(samples));
   const ReturnRaster returns = rasterReturns(samples, angles, g.splat_radius_px);
   std::vector<std::uint8_t> sky;
-  if (g.sky) sky = skyMask(guide, prior, far, returns.top_row, g.sky_gradient, g.sky_brightness);
+  if (g.sky) {
+    sky = skyMask(guide, prior, far, returns.top_row, g.sky_gradient, g.sky_brightness,
+                  g.sky_max_warmth);
+  }
 
   if (model_prior != nullptr) {
     // Another model's prediction (ground_gp's) is the prior: it already holds the ground, the

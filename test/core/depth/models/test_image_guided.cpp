@@ -240,10 +240,34 @@ TEST(ImageGuided, SkyStopsAtTheFirstReturnOfAColumn) {
   std::vector<float> far(std::size_t(smallImage().height) * kCols, 100.0f);
   std::vector<int> top_return(kCols, smallImage().height);
   top_return[10] = 12;
-  const auto sky = mm::skyMask(bright, far, 100.0f, top_return, 12.0, 120.0);
+  const auto sky = mm::skyMask(bright, far, 100.0f, top_return, 12.0, 120.0, 10.0);
   EXPECT_EQ(sky[std::size_t(11) * kCols + 10], 1);
   EXPECT_EQ(sky[std::size_t(12) * kCols + 10], 0);
   EXPECT_EQ(sky[std::size_t(100) * kCols + 11], 1);
+}
+
+// A bright plain facade reaching the top of the image (beige, brick, a sign) is flat and bright
+// like the sky; its colour tells it apart: skies are blue or gray, at most sky_max_warmth redder
+// than blue.
+TEST(ImageGuided, WarmBrightPlainSurfaceAtTheTopIsNotSky) {
+  const cv::Size size(smallImage().width, smallImage().height);
+  const std::vector<float> far(std::size_t(size.height) * kCols, 100.0f);
+  const std::vector<int> no_return(kCols, size.height);
+  const auto skyAt = [&](const cv::Scalar& bgr, double max_warmth) {
+    const cv::Mat image(size, CV_8UC3, bgr);
+    return mm::skyMask(image, far, 100.0f, no_return, 12.0, 120.0, max_warmth)[5 * kCols + 20];
+  };
+  EXPECT_EQ(skyAt(cv::Scalar(235, 200, 170), 10.0), 1);   // blue sky
+  EXPECT_EQ(skyAt(cv::Scalar(214, 214, 216), 10.0), 1);   // overcast, a trace warmer than blue
+  EXPECT_EQ(skyAt(cv::Scalar(150, 205, 230), 10.0), 0);   // beige facade
+  EXPECT_EQ(skyAt(cv::Scalar(150, 205, 230), 255.0), 1);  // without the colour test
+  // Above a warm band the column's sky ends at the band.
+  cv::Mat image(size, CV_8UC3, cv::Scalar(235, 200, 170));
+  image.rowRange(20, 30).setTo(cv::Scalar(150, 205, 230));
+  const auto sky = mm::skyMask(image, far, 100.0f, no_return, 255.0, 120.0, 10.0);
+  EXPECT_EQ(sky[std::size_t(10) * kCols + 20], 1);
+  EXPECT_EQ(sky[std::size_t(25) * kCols + 20], 0);
+  EXPECT_EQ(sky[std::size_t(40) * kCols + 20], 0);
 }
 
 TEST(ImageGuided, VarianceGrowsAwayFromTheReturnsAndIsFiniteEverywhere) {

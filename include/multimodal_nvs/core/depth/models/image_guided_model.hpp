@@ -35,10 +35,12 @@ cv::Mat guideOnGrid(const cv::Mat& image, const StrideGrid& grid);
 /// The sky on the grid (1 = sky): in each column, the run of pixels from the top row down to the
 /// first image edge (8-bit gradient above `gradient`), the horizon (`prior` below `far_depth`) or
 /// the first return (`top_return_row[c]`, rows() where the column has none), whichever comes
-/// first, or the first pixel darker than `brightness` (8-bit gray). No return comes from the sky,
-/// the sky touches the top of the image and is bright.
+/// first, or the first pixel darker than `brightness` (8-bit gray) or warmer than `max_warmth`
+/// (red minus blue, 8-bit). No return comes from the sky, the sky touches the top of the image and
+/// is bright, and it is blue or gray, never red-tinted: a bright plain facade (beige, brick, a
+/// sign) reaching the top of the image is otherwise taken for sky.
 std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>& prior,
                                   float far_depth, const std::vector<int>& top_return_row,
-                                  double gradient, double brightness);
+                                  double gradient, double brightness, double max_warmth);
 
 }  // namespace multimodal_nvs
