@@ -14,55 +14,26 @@ eval/synthetic_scenes.tsv 0.010-0.25 / 0.03-0.25 (typically 0.02 / 0.07); with
 --radar-pass-through 0.9 (dev scenes) 0.09-0.15 / 0.27-0.42.
 """
 import glob
-import struct
+import os
 import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from demo_report import jpeg_size, project, read_calib  # noqa: E402  (the demo's KITTI helpers)
 
 
 def fail(message):
     sys.exit(f"radar_surface_offsets: {message}")
 
 
-def read_calib(path):
-    values = {}
+def calib(path):
     try:
-        for line in open(path):
-            key, _, rest = line.partition(":")
-            if rest.split():
-                values[key.strip()] = np.array([float(x) for x in rest.split()])
-        projection = values["P2"].reshape(3, 4)
-        sensor_to_camera = np.eye(4)
-        sensor_to_camera[:3] = values["Tr_velo_to_cam"].reshape(3, 4)
+        entries = read_calib(path)
+        entries["P2"].reshape(3, 4), entries["Tr_velo_to_cam"][:12].reshape(3, 4)
     except (OSError, KeyError, ValueError) as error:
         fail(f"{path}: not a KITTI calib with P2 and Tr_velo_to_cam ({error})")
-    return projection, sensor_to_camera
-
-
-def image_size(path):
-    """(width, height) from a PNG header or a JPEG start-of-frame marker."""
-    with open(path, "rb") as f:
-        data = f.read()
-    if data[:8] == b"\x89PNG\r\n\x1a\n":
-        return struct.unpack(">II", data[16:24])
-    i = 2
-    while i + 9 < len(data):
-        if data[i] != 0xFF:
-            break
-        marker, length = data[i + 1], struct.unpack(">H", data[i + 2:i + 4])[0]
-        if marker in (0xC0, 0xC1, 0xC2):
-            height, width = struct.unpack(">HH", data[i + 5:i + 9])
-            return width, height
-        i += 2 + length
-    fail(f"{path}: neither a PNG nor a JPEG with a frame header")
-
-
-def project(points, calib):
-    projection, sensor_to_camera = calib
-    camera = np.c_[points, np.ones(len(points))] @ sensor_to_camera.T
-    uvw = camera[:, :3] @ projection[:, :3].T + projection[:, 3]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return uvw[:, 0] / uvw[:, 2], uvw[:, 1] / uvw[:, 2], camera[:, 2]
+    return entries
 
 
 def read_points(path, fields):
@@ -79,25 +50,26 @@ def frame_offsets(root, frame, window):
     images = glob.glob(f"{root}/lidar/training/image_2/{frame}.*")
     if not images:
         fail(f"{root}/lidar/training/image_2/{frame}.*: no camera image")
-    width, height = image_size(images[0])
+    try:
+        width, height = jpeg_size(images[0])
+    except (OSError, ValueError, IndexError) as error:
+        fail(f"{images[0]}: no image size ({error})")
     radar = read_points(f"{root}/radar/training/velodyne/{frame}.bin", 7)
     lidar = read_points(f"{root}/lidar/training/velodyne/{frame}.bin", 4)
-    u, v, z = project(lidar, read_calib(f"{root}/lidar/training/calib/{frame}.txt"))
-    inside = (z > 0.5) & (u >= 0) & (u < width) & (v >= 0) & (v < height)
+    u, v, z = project(lidar, calib(f"{root}/lidar/training/calib/{frame}.txt"), width, height)
     nearest = np.full((height, width), np.inf)
-    np.minimum.at(nearest, (v[inside].astype(int), u[inside].astype(int)), z[inside])
+    np.minimum.at(nearest, (v.astype(int), u.astype(int)), z)
     # The nearest LiDAR depth within `window` pixels (a min filter; edges padded with +inf).
     padded = np.pad(nearest, window, constant_values=np.inf)
     surface = np.full_like(nearest, np.inf)
     for dv in range(2 * window + 1):
         for du in range(2 * window + 1):
             surface = np.minimum(surface, padded[dv:dv + height, du:du + width])
-    u, v, z = project(radar, read_calib(f"{root}/radar/training/calib/{frame}.txt"))
-    inside = (z > 0.5) & (u >= 0) & (u < width) & (v >= 0) & (v < height)
-    lidar_depth = surface[v[inside].astype(int), u[inside].astype(int)]
+    u, v, z = project(radar, calib(f"{root}/radar/training/calib/{frame}.txt"), width, height)
+    lidar_depth = surface[v.astype(int), u.astype(int)]
     seen = np.isfinite(lidar_depth)
-    print(f"{frame}: {inside.sum()} radar returns in the image, {seen.sum()} with LiDAR nearby")
-    return (z[inside][seen] - lidar_depth[seen]) / lidar_depth[seen]
+    print(f"{frame}: {len(z)} radar returns in the image, {seen.sum()} with LiDAR nearby")
+    return (z[seen] - lidar_depth[seen]) / lidar_depth[seen]
 
 
 def main(argv):
