@@ -78,8 +78,8 @@ void runCompletion(benchmark::State& state, int frame, const std::string& sensor
   }
   mm::PinholeIntrinsics camera = scan->intrinsics;
   camera.distortion = lens;
-  cv::Mat image;  // only image_guided reads the camera image
-  if (params.model == mm::DepthModel::kImageGuided) {
+  cv::Mat image;  // only image_guided and ground_gp's sky read the camera image
+  if (params.readsImage()) {
     image =
         cv::imread(mm::io::VodFrame{dataDir() + "/" + dataset, frame}.image(), cv::IMREAD_COLOR);
     if (image.empty()) return state.SkipWithError((dataset + " camera image not found").c_str());
@@ -176,6 +176,26 @@ void BM_Lidar00549_GroundGpDense_Retain80(benchmark::State& state) {
   p.ground.input = mm::GroundPriorParams::Input::kDense;
   p.retain_percent = 80.0;
   runCompletion(state, 549, "lidar", p);
+}
+
+// config/lidar.yaml's model: the dense mode with the image's sky (ground.image_sky), full
+// resolution and stride 2 (the config's). Argument: output stride.
+void BM_Lidar00549_GroundGpDenseImageSky_Retain80(benchmark::State& state) {
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kGroundGp;
+  p.ground.input = mm::GroundPriorParams::Input::kDense;
+  p.ground.image_sky = true;
+  p.retain_percent = 80.0;
+  runCompletion(state, 549, "lidar", p, {}, "vod",
+                mm::StrideGrid{kFullResolution.image, static_cast<int>(state.range(0))});
+}
+void BM_Lidar00549_GroundGpDense_Retain80_Stride(benchmark::State& state) {
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kGroundGp;
+  p.ground.input = mm::GroundPriorParams::Input::kDense;
+  p.retain_percent = 80.0;
+  runCompletion(state, 549, "lidar", p, {}, "vod",
+                mm::StrideGrid{kFullResolution.image, static_cast<int>(state.range(0))});
 }
 
 // The `ipbasic` baseline (Ku et al. 2018's fast fill, with this package's distance variance) at
@@ -393,6 +413,12 @@ BENCHMARK(BM_Lidar00549_GroundGpDense_Retain80)
     ->Arg(1)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
+BENCHMARK(BM_Lidar00549_GroundGpDenseImageSky_Retain80)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(2.0);
+BENCHMARK(BM_Lidar00549_GroundGpDense_Retain80_Stride)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Lidar00549_IpBasic)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Lidar00549_IpBasicPublishedPort)
     ->Arg(0)

@@ -42,6 +42,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.ground.input = parseGroundInput(config.ground_input);
   p.ground.dense_edge_ratio = config.ground_dense_edge_ratio;
   p.ground.dense_relative_sigma = config.ground_dense_relative_sigma;
+  p.ground.image_sky = config.ground_image_sky;
   ImageGuidedParams& g = p.guided;
   g.lambda = config.guided_lambda;
   g.sigma_color = config.guided_sigma_color;
@@ -99,6 +100,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.ground_input = toString(p.ground.input);
   config.ground_dense_edge_ratio = p.ground.dense_edge_ratio;
   config.ground_dense_relative_sigma = p.ground.dense_relative_sigma;
+  config.ground_image_sky = p.ground.image_sky;
   const ImageGuidedParams& g = p.guided;
   config.guided_lambda = g.lambda;
   config.guided_sigma_color = g.sigma_color;

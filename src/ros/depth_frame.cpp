@@ -75,9 +75,10 @@ DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const
   result.status = lookupSensorToCamera(tf_buffer, cloud.header, image.header.frame_id, tf_timeout,
                                        sensor_to_camera);
   if (!result.status.ok()) return result;
-  // Only image_guided reads the pixels (a compressed image is already decoded, a raw one wrapped).
+  // Only image_guided and ground_gp's sky read the pixels (a compressed image is already decoded,
+  // a raw one wrapped).
   cv::Mat pixels;
-  if (settings.params.model == DepthModel::kImageGuided) {
+  if (settings.params.readsImage()) {
     result.input = "image";
     result.status = image.rgb(pixels);
     if (!result.status.ok()) return result;

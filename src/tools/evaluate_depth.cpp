@@ -295,10 +295,9 @@ int run(int argc, char** argv) {
     const mm::io::VodFrame frame{root, number};
     FrameResult res;
     res.frame = number;
-    // image_guided follows the camera image; the other models read it only for its size.
-    const cv::Mat image = o.image_size.empty() || params.model == mm::DepthModel::kImageGuided
-                              ? readFrameImage(frame)
-                              : cv::Mat();
+    // image_guided and ground_gp's sky read the camera image; the others only its size.
+    const cv::Mat image =
+        o.image_size.empty() || params.readsImage() ? readFrameImage(frame) : cv::Mat();
     mm::StrideGrid grid;
     grid.image = o.image_size.empty() ? mm::ImageSize{image.rows, image.cols}
                                       : mm::ImageSize{o.image_size[0], o.image_size[1]};

@@ -106,6 +106,9 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "dense input: prior std / depth on a surface")
       ->check(positive())
       ->group(kGround);
+  app.add_option("--ground-image-sky", g.image_sky,
+                 "1 the image's sky (the --guided-sky-* test) at the far clamp, 0 none")
+      ->group(kGround);
 
   // image_guided (the depth model that follows the camera image). The on/off switches are for the
   // ablation of its ingredients.

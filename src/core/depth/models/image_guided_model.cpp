@@ -202,6 +202,22 @@ void smoothSums(const cv::Mat& guide, const ImageGuidedParams& g, double lambda,
 
 }  // namespace
 
+void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                   const ImageGuidedParams& g, const GroundPlane& plane, const cv::Mat& image,
+                   PixelPredictions& out) {
+  const float far = static_cast<float>(g.far_depth);
+  const std::vector<std::uint8_t> sky =
+      skyMask(guideOnGrid(image, angles.grid()), groundPriorDepth(angles, plane, g.far_depth), far,
+              rasterReturns(samples, angles, g.splat_radius_px).top_row, g.sky_gradient,
+              g.sky_brightness, g.sky_max_warmth);
+  const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
+  for (std::size_t i = 0; i < sky.size(); ++i) {
+    if (!sky[i]) continue;
+    out.mean[i] = far;
+    out.variance[i] = sky_variance;
+  }
+}
+
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, const GroundPlane& plane,
                         const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,

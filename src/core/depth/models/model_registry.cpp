@@ -118,8 +118,11 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     if (ground) *ground = choice;
   }
   if (params.model == DepthModel::kGroundGp) {
-    return predictGroundGpModel(samples, angles, params, choice, shift, pool, out, ground, scratch,
-                                triangulation);
+    const int sets = predictGroundGpModel(samples, angles, params, choice, shift, pool, out, ground,
+                                          scratch, triangulation);
+    if (params.ground.image_sky && !image.empty())
+      applyImageSky(samples, angles, params.guided, choice.plane, image, out);
+    return sets;
   }
   if (params.model == DepthModel::kImageGuided) {
     // On sparse input (ground_gp's sparse mode: radar) ground_gp's prediction is the prior the

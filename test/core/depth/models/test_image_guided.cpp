@@ -235,6 +235,34 @@ TEST(ImageGuided, BrightUniformTopIsSkyAtTheFarClampWithItsVariance) {
   EXPECT_NE(no_sky.variance[std::size_t(5) * kCols + 20], 1.0f);
 }
 
+// ground_gp takes the same sky when asked (ground.image_sky, config/lidar.yaml): the bright blue
+// rows above the returns go to the far clamp with the sky's variance; without the switch, or
+// without an image, ground_gp's own prediction stays.
+TEST(ImageGuided, GroundGpTakesTheImagesSkyWhenAsked) {
+  cv::Mat image = twoHalves();
+  image.rowRange(0, 30).setTo(cv::Scalar(230, 210, 190));  // sky above row 30
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kGroundGp;
+  p.threads = 2;
+  ASSERT_FALSE(p.ground.image_sky);
+  EXPECT_FALSE(p.readsImage());
+  mm::DepthCompleter completer(2);
+  const auto plain = completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, image);
+  p.ground.image_sky = true;
+  EXPECT_TRUE(p.readsImage());
+  const auto sky = completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, image);
+  const auto no_image =
+      completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, cv::Mat());
+  const std::size_t top = std::size_t(5) * kCols + 20, below = std::size_t(60) * kCols + 20;
+  EXPECT_FLOAT_EQ(sky.depth[top], 100.0f);
+  EXPECT_FLOAT_EQ(sky.variance[top], 1.0f);
+  EXPECT_NE(plain.depth[top], 100.0f);
+  EXPECT_EQ(no_image.depth[top], plain.depth[top]);
+  // Below the sky line ground_gp's prediction is untouched.
+  EXPECT_EQ(sky.depth[below], plain.depth[below]);
+  EXPECT_EQ(sky.variance[below], plain.variance[below]);
+}
+
 TEST(ImageGuided, SkyStopsAtTheFirstReturnOfAColumn) {
   const cv::Mat bright(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(220));
   std::vector<float> far(std::size_t(smallImage().height) * kCols, 100.0f);

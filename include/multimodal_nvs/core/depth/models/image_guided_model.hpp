@@ -28,6 +28,13 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
                         const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
                         const PixelPredictions* model_prior = nullptr);
 
+/// Another model's prediction with the image's sky (skyMask on the ground plane's horizon and the
+/// returns' top rows, guided.sky_* parameters) set to guided.far_depth and variance
+/// guided.sky_sigma^2. Throws InputError for an unusable image (guideOnGrid).
+void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                   const ImageGuidedParams& guided, const GroundPlane& plane, const cv::Mat& image,
+                   PixelPredictions& out);
+
 /// The image at the grid's pixels (u = 0, s, 2s, ...), 8-bit BGR. Throws InputError when the image
 /// is empty, of another size than grid.image or of an unsupported type.
 cv::Mat guideOnGrid(const cv::Mat& image, const StrideGrid& grid);
