@@ -169,32 +169,30 @@ void BM_Lidar00549_TiledApprox(benchmark::State& state) {
 // config/lidar.yaml's model at full resolution: ground_gp on dense input (edge-aware interpolation
 // on the triangulation), ground plane from the returns, 80 % retained. Argument: worker threads
 // (0: all cores; 1 shows the work itself, the CPU time that a loaded machine does not inflate).
-void BM_Lidar00549_GroundGpDense_Retain80(benchmark::State& state) {
+/// ground_gp in its dense mode, 80 % kept (config/lidar.yaml's model without its sky).
+mm::DepthCompletionParams lidarDenseParams() {
   mm::DepthCompletionParams p;
-  p.threads = static_cast<int>(state.range(0));
   p.model = mm::DepthModel::kGroundGp;
   p.ground.input = mm::GroundPriorParams::Input::kDense;
   p.retain_percent = 80.0;
+  return p;
+}
+void BM_Lidar00549_GroundGpDense_Retain80(benchmark::State& state) {
+  mm::DepthCompletionParams p = lidarDenseParams();
+  p.threads = static_cast<int>(state.range(0));
   runCompletion(state, 549, "lidar", p);
 }
 
 // config/lidar.yaml's model: the dense mode with the image's sky (ground.image_sky), full
 // resolution and stride 2 (the config's). Argument: output stride.
 void BM_Lidar00549_GroundGpDenseImageSky_Retain80(benchmark::State& state) {
-  mm::DepthCompletionParams p;
-  p.model = mm::DepthModel::kGroundGp;
-  p.ground.input = mm::GroundPriorParams::Input::kDense;
+  mm::DepthCompletionParams p = lidarDenseParams();
   p.ground.image_sky = true;
-  p.retain_percent = 80.0;
   runCompletion(state, 549, "lidar", p, {}, "vod",
                 mm::StrideGrid{kFullResolution.image, static_cast<int>(state.range(0))});
 }
 void BM_Lidar00549_GroundGpDense_Retain80_Stride(benchmark::State& state) {
-  mm::DepthCompletionParams p;
-  p.model = mm::DepthModel::kGroundGp;
-  p.ground.input = mm::GroundPriorParams::Input::kDense;
-  p.retain_percent = 80.0;
-  runCompletion(state, 549, "lidar", p, {}, "vod",
+  runCompletion(state, 549, "lidar", lidarDenseParams(), {}, "vod",
                 mm::StrideGrid{kFullResolution.image, static_cast<int>(state.range(0))});
 }
 

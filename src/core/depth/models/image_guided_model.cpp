@@ -125,6 +125,15 @@ ReturnRaster rasterReturns(const std::vector<AngularSample>& samples, const Pixe
   return raster;
 }
 
+/// skyMask with the model's sky parameters: the one place that says which parameters make the test
+/// (image_guided's own sky and ground_gp's, applyImageSky).
+std::vector<std::uint8_t> skyMaskOf(const cv::Mat& guide, const std::vector<float>& prior,
+                                    const std::vector<int>& top_return_row,
+                                    const ImageGuidedParams& g) {
+  return skyMask(guide, prior, static_cast<float>(g.far_depth), top_return_row, g.sky_gradient,
+                 g.sky_brightness, g.sky_max_warmth);
+}
+
 float medianDepth(const std::vector<AngularSample>& samples) {
   std::vector<float> d;
   for (const AngularSample& s : samples) {
@@ -207,9 +216,8 @@ void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGr
                    PixelPredictions& out) {
   const float far = static_cast<float>(g.far_depth);
   const std::vector<std::uint8_t> sky =
-      skyMask(guideOnGrid(image, angles.grid()), groundPriorDepth(angles, plane, g.far_depth), far,
-              rasterReturns(samples, angles, g.splat_radius_px).top_row, g.sky_gradient,
-              g.sky_brightness, g.sky_max_warmth);
+      skyMaskOf(guideOnGrid(image, angles.grid()), groundPriorDepth(angles, plane, g.far_depth),
+                rasterReturns(samples, angles, g.splat_radius_px).top_row, g);
   const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
   for (std::size_t i = 0; i < sky.size(); ++i) {
     if (!sky[i]) continue;
@@ -233,10 +241,7 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
                                             : std::vector<float>(n, medianDepth(samples));
   const ReturnRaster returns = rasterReturns(samples, angles, g.splat_radius_px);
   std::vector<std::uint8_t> sky;
-  if (g.sky) {
-    sky = skyMask(guide, prior, far, returns.top_row, g.sky_gradient, g.sky_brightness,
-                  g.sky_max_warmth);
-  }
+  if (g.sky) sky = skyMaskOf(guide, prior, returns.top_row, g);
 
   if (model_prior != nullptr) {
     // Another model's prediction (ground_gp's) is the prior: it already holds the ground, the
