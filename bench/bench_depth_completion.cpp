@@ -146,6 +146,12 @@ mm::DepthCompletionParams radarDefaultParams() {
 void BM_Radar08350_ImageGuidedGroundGpPrior_Retain80(benchmark::State& state) {
   runCompletion(state, 8350, "radar", radarDefaultParams());
 }
+// The same with the smoother on a grid `range(0)` times coarser (guided_smooth_scale).
+void BM_Radar08350_ImageGuidedGroundGpPrior_SmoothScale(benchmark::State& state) {
+  mm::DepthCompletionParams p = radarDefaultParams();
+  p.guided.smooth_scale = static_cast<int>(state.range(0));
+  runCompletion(state, 8350, "radar", p);
+}
 // radar.yaml's model on the Astyx imaging radar (frames as above).
 void BM_RadarAstyx_ImageGuidedGroundGpPrior_Retain80(benchmark::State& state) {
   runCompletion(state, static_cast<int>(state.range(0)), "radar", radarDefaultParams(), {}, "astyx",
@@ -391,6 +397,10 @@ BENCHMARK(BM_Radar08350_GroundGp_Retain80)->Unit(benchmark::kMillisecond)->MinTi
 BENCHMARK(BM_RadarAstyx_GroundGp_Retain80)->Arg(0)->Arg(3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_ImageGuided_Retain80)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_ImageGuidedGroundGpPrior_Retain80)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(2.0);
+BENCHMARK(BM_Radar08350_ImageGuidedGroundGpPrior_SmoothScale)
+    ->Arg(2)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
 BENCHMARK(BM_RadarAstyx_ImageGuidedGroundGpPrior_Retain80)
