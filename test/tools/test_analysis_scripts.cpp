@@ -1,0 +1,140 @@
+// The analysis scripts (scripts/*.py) end to end on small synthetic scenes: they read what the
+// tools write, their numbers mean what their help says, and bad input names the file.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "multimodal_nvs/core/io/npy.hpp"
+#include "tool_runner.hpp"
+
+namespace io = multimodal_nvs::io;
+using multimodal_nvs::test::runCommand;
+using multimodal_nvs::test::runTool;
+
+namespace {
+
+std::string dir() {
+  return ::testing::TempDir();
+}
+
+std::string makeScene(const std::string& name, const std::string& args = "") {
+  const std::string scene = dir() + name;
+  const auto made = runTool("make_synthetic_scene",
+                            "--output " + scene + " --scale 0.2 --num-frames 3 --quiet " + args);
+  EXPECT_EQ(made.exit_code, 0) << made.output;
+  return scene;
+}
+
+struct GapRow {
+  std::string label;
+  double share = NAN;  // the region's share of the image (region rows only)
+  double covered_psnr = NAN, coverage = NAN, preview_psnr = NAN;
+};
+
+/// The rows of novel_view_gap_by_region.py's table, in order.
+std::vector<GapRow> gapRows(const std::string& output) {
+  std::vector<GapRow> rows;
+  const std::regex row(R"(^(model|oracle|model, oracle (.*) \(([0-9.]+)\))\s+([-0-9.]+)\s+)"
+                       R"(([0-9.]+)\s+([-0-9.]+)(\s+[-0-9]+%)?\s*$)");
+  std::size_t start = 0;
+  while (start < output.size()) {
+    std::size_t end = output.find('\n', start);
+    if (end == std::string::npos) end = output.size();
+    const std::string line = output.substr(start, end - start);
+    std::smatch m;
+    if (std::regex_match(line, m, row)) {
+      GapRow r;
+      r.label = m[2].matched ? m[2].str() : m[1].str();
+      if (m[3].matched) r.share = std::stod(m[3]);
+      r.covered_psnr = std::stod(m[4]);
+      r.coverage = std::stod(m[5]);
+      r.preview_psnr = std::stod(m[6]);
+      rows.push_back(r);
+    }
+    start = end + 1;
+  }
+  return rows;
+}
+
+multimodal_nvs::test::ToolResult gapByRegion(const std::string& scene, const std::string& prefix) {
+  return runCommand("scripts/novel_view_gap_by_region.py " + scene + " " + prefix + " --tools " +
+                    std::string(MMNVS_TOOL_DIR) + " --size 88 160");
+}
+
+/// "behind X" of radar_surface_offsets.py: the share of returns 20 % or more behind the surface.
+double shareBehind(const std::string& output) {
+  std::smatch m;
+  if (!std::regex_search(output, m, std::regex(R"(\(behind ([0-9.]+),)"))) return NAN;
+  return std::stod(m[1]);
+}
+
+}  // namespace
+
+// The exact depth itself: every pasted region leaves it unchanged, so every row equals the oracle;
+// a model's depth: the three regions tile the image and the too-near / too-far parts lie inside
+// the region above the highest return.
+TEST(NovelViewGapByRegion, TheExactDepthLosesNothingAndTheRegionsTileTheImage) {
+  const std::string scene = makeScene("gap_scene");
+  const io::NpyArray exact = io::readNpy(scene + "/depth_gt/00000.npy");
+  std::vector<float> oracle = exact.asFloat();
+  for (float& d : oracle)
+    d = d > 0.0f ? d : 100.0f;
+  io::writeNpy(dir() + "gap_exact_depth.npy", oracle.data(), exact.shape);
+  const auto same = gapByRegion(scene, dir() + "gap_exact");
+  ASSERT_EQ(same.exit_code, 0) << same.output;
+  const std::vector<GapRow> exact_rows = gapRows(same.output);
+  ASSERT_EQ(exact_rows.size(), 7u) << same.output;
+  for (const GapRow& r : exact_rows) {
+    EXPECT_EQ(r.covered_psnr, exact_rows.back().covered_psnr) << r.label;
+    EXPECT_EQ(r.coverage, exact_rows.back().coverage) << r.label;
+  }
+
+  const auto model =
+      runTool("complete_depth", "--vod-root " + scene + " --frame 0 --sensor lidar " +
+                                    "--model nearest --output " + dir() + "gap_model");
+  ASSERT_EQ(model.exit_code, 0) << model.output;
+  const auto gap = gapByRegion(scene, dir() + "gap_model");
+  ASSERT_EQ(gap.exit_code, 0) << gap.output;
+  const std::vector<GapRow> rows = gapRows(gap.output);
+  ASSERT_EQ(rows.size(), 7u) << gap.output;
+  EXPECT_EQ(rows.front().label, "model");
+  EXPECT_EQ(rows.back().label, "oracle");
+  const double above = rows[1].share, too_near = rows[2].share, too_far = rows[3].share;
+  const double below = rows[4].share, sky = rows[5].share;
+  EXPECT_GT(above, 0.0) << "a LiDAR's highest ring leaves part of the image above it";
+  EXPECT_GT(sky, 0.0);
+  EXPECT_NEAR(above + below + sky, 1.0, 0.002) << gap.output;
+  EXPECT_LE(too_near + too_far, above + 0.001) << gap.output;
+  EXPECT_EQ(rows.back().covered_psnr, exact_rows.back().covered_psnr)
+      << "the oracle row renders the exact depth whatever the model";
+}
+
+TEST(NovelViewGapByRegion, AMissingOrMisSizedDepthFailsNamingTheFile) {
+  const std::string scene = makeScene("gap_bad_scene");
+  const auto missing = gapByRegion(scene, dir() + "gap_nothing_here");
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.output.find("gap_nothing_here_depth.npy"), std::string::npos) << missing.output;
+  const float small[4] = {1, 2, 3, 4};
+  io::writeNpy(dir() + "gap_small_depth.npy", small, {2, 2});
+  const auto wrong = gapByRegion(scene, dir() + "gap_small");
+  EXPECT_NE(wrong.exit_code, 0);
+  EXPECT_NE(wrong.output.find("shape (2, 2)"), std::string::npos) << wrong.output;
+}
+
+// The synthetic radar's pass-through (returns from behind the first surface) is what the script
+// was written to see: with it, more returns lie 20 % or more behind the LiDAR's surface.
+TEST(RadarSurfaceOffsets, PassThroughPutsMoreReturnsBehindTheSurface) {
+  const std::string plain = makeScene("offsets_plain", "--seed 3");
+  const std::string through = makeScene("offsets_through", "--seed 3 --radar-pass-through 0.9");
+  const auto a = runCommand("scripts/radar_surface_offsets.py " + plain + " 00000");
+  const auto b = runCommand("scripts/radar_surface_offsets.py " + through + " 00000");
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  EXPECT_GT(shareBehind(b.output), shareBehind(a.output) + 0.1) << a.output << b.output;
+  const auto bad = runCommand("scripts/radar_surface_offsets.py " + dir() + "no_such_scene 00000");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("no_such_scene"), std::string::npos) << bad.output;
+}
