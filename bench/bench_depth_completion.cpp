@@ -16,6 +16,8 @@
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/depth_shift.hpp"
+#include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/models/image_guided_model.hpp"
 #include "multimodal_nvs/core/depth/models/ipbasic_model.hpp"
 #include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
@@ -363,6 +365,27 @@ void BM_Radar08350_GlobalSmoother(benchmark::State& state) {
   }
 }
 
+// ground_gp's image sky alone (applyImageSky: the sky test on the camera image above the top
+// returns) on VoD 00549's LiDAR sweep (167,772 returns, 360 degrees) at full resolution.
+void BM_Lidar00549_ImageSky(benchmark::State& state) {
+  const Scan* scan = loadScan(549, "lidar");
+  if (scan == nullptr) return state.SkipWithError("VoD data not found");
+  const cv::Mat image =
+      cv::imread(mm::io::VodFrame{dataDir() + "/vod", 549}.image(), cv::IMREAD_COLOR);
+  if (image.empty()) return state.SkipWithError("VoD camera image not found");
+  const mm::PixelAngleGrid grid(scan->intrinsics, kFullResolution);
+  const std::vector<mm::AngularSample> samples = mm::toAngularSamples(scan->points);
+  const mm::ImageGuidedParams params;
+  const mm::GroundPlane plane;  // level, 1.3 m: VoD's camera
+  mm::PixelPredictions out;
+  out.mean.assign(std::size_t(grid.grid().size()), 10.0f);
+  out.variance.assign(out.mean.size(), 1.0f);
+  for (auto _ : state) {
+    mm::applyImageSky(samples, grid, params, plane, image, out);
+    benchmark::DoNotOptimize(out.mean.data());
+  }
+}
+
 // keepLowestVariance alone on the variances and candidates of the two retain-80 cases above
 // (0: exact local_gp_mle, the threshold in a tie of two thirds of the pixels at the prior
 // variance; 1: ground_gp, few pixels near the threshold).
@@ -438,6 +461,7 @@ BENCHMARK(BM_Radar08350_PixelAngleGrid_PlumbBob)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_NeighbourSets)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_GpPrediction)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Radar08350_GlobalSmoother)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+BENCHMARK(BM_Lidar00549_ImageSky)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 BENCHMARK(BM_Radar08350_KeepLowestVariance)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 int main(int argc, char** argv) {

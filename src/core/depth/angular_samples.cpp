@@ -101,6 +101,15 @@ std::vector<AngularSample> usableSamples(const std::vector<AngularSample>& sampl
   return out;
 }
 
+AzimuthWindow azimuthWindow(const PinholeIntrinsics& k, double u_min, double u_max) {
+  AzimuthWindow window;
+  if (k.distortion.any() || !(k.fx > 0.0)) return window;
+  constexpr double kMarginDeg = 1e-3;
+  window.min_deg = std::atan((u_min - k.cx) / k.fx) * kRadToDeg64 - kMarginDeg;
+  window.max_deg = std::atan((u_max - k.cx) / k.fx) * kRadToDeg64 + kMarginDeg;
+  return window;
+}
+
 bool angularToPixel(const PinholeIntrinsics& k, double azimuth_deg, double elevation_deg, double* u,
                     double* v) {
   constexpr double kDegToRad = 3.14159265358979323846 / 180.0;

@@ -45,20 +45,37 @@ struct InView {
   double elevation_spread_deg = 0.0;  // standard deviation
 };
 
-/// A return with a positive finite depth whose direction projects inside the image.
-bool returnInImage(const AngularSample& s, const PixelAngleGrid& angles) {
-  if (!(s.depth > 0.0f) || !std::isfinite(s.depth)) return false;
-  const ImageSize& image = angles.grid().image;
-  double u = 0.0, v = 0.0;
-  if (!angularToPixel(angles.intrinsics(), s.azimuth_deg, s.elevation_deg, &u, &v)) return false;
-  return !(u < 0.0 || v < 0.0 || u > image.width - 1 || v > image.height - 1);
-}
+/// Tells a return with a positive finite depth whose direction projects inside the image. Those
+/// outside the image's azimuths are told before any tangent (azimuthWindow): most of a 360-degree
+/// LiDAR sweep.
+class ReturnInImage {
+ public:
+  explicit ReturnInImage(const PixelAngleGrid& angles)
+      : angles_(angles),
+        window_(azimuthWindow(angles.intrinsics(), 0.0, angles.grid().image.width - 1.0)) {}
+  bool operator()(const AngularSample& s) const {
+    if (!(s.depth > 0.0f) || !std::isfinite(s.depth) || !window_.contains(s.azimuth_deg)) {
+      return false;
+    }
+    const ImageSize& image = angles_.grid().image;
+    double u = 0.0, v = 0.0;
+    if (!angularToPixel(angles_.intrinsics(), s.azimuth_deg, s.elevation_deg, &u, &v)) {
+      return false;
+    }
+    return !(u < 0.0 || v < 0.0 || u > image.width - 1 || v > image.height - 1);
+  }
+
+ private:
+  const PixelAngleGrid& angles_;
+  AzimuthWindow window_;
+};
 
 InView returnsInView(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles) {
   InView v;
   double sum = 0.0, sum2 = 0.0;
+  const ReturnInImage in_image(angles);
   for (const AngularSample& s : samples) {
-    if (!returnInImage(s, angles)) continue;
+    if (!in_image(s)) continue;
     const Eigen::Vector2d ray = normalisedFromAngles(s.azimuth_deg, s.elevation_deg);
     const Eigen::Vector3d p(ray.x() * s.depth, ray.y() * s.depth, s.depth);
     if (p.norm() > kMaxRangeM) continue;
@@ -147,8 +164,9 @@ void refineOnInliers(const std::vector<Eigen::Vector3d>& points, double distance
 double scanLineShare(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles) {
   std::vector<AngularSample> in_view;
   float az0 = INFINITY, az1 = -INFINITY, el0 = INFINITY, el1 = -INFINITY;
+  const ReturnInImage in_image(angles);
   for (const AngularSample& s : samples) {
-    if (!returnInImage(s, angles)) continue;
+    if (!in_image(s)) continue;
     in_view.push_back(s);
     az0 = std::min(az0, s.azimuth_deg);
     az1 = std::max(az1, s.azimuth_deg);

@@ -26,10 +26,32 @@ Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg) {
 std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
                                     double far_depth) {
   const StrideGrid& grid = angles.grid();
+  const int rows = grid.rows(), cols = grid.cols();
   std::vector<float> prior(static_cast<std::size_t>(grid.size()));
-  for (int r = 0; r < grid.rows(); ++r) {
-    for (int c = 0; c < grid.cols(); ++c) {
-      prior[std::size_t(r) * grid.cols() + c] = groundPriorDepthAt(angles, plane, r, c, far_depth);
+  if (angles.distorted()) {
+    for (int r = 0; r < rows; ++r) {
+      for (int c = 0; c < cols; ++c)
+        prior[std::size_t(r) * cols + c] = groundPriorDepthAt(angles, plane, r, c, far_depth);
+    }
+    return prior;
+  }
+  // A pinhole camera's rays are separable (a column's x, a row's y): groundPriorDepthAt's
+  // arithmetic with the ray terms hoisted and the branch as a select, so that each row vectorises
+  // (as a loop of calls this full-image pass took ~3 ms of VoD's 2.35 M pixels).
+  const PinholeIntrinsics& k = angles.intrinsics();
+  const int stride = grid.stride;
+  std::vector<double> column_x(cols);
+  for (int c = 0; c < cols; ++c)
+    column_x[c] = (c * stride - k.cx) / k.fx;
+  const double up_x = plane.up.x(), up_z = plane.up.z(), height = plane.height;
+  for (int r = 0; r < rows; ++r) {
+    const double up_y = plane.up.y() * ((r * stride - k.cy) / k.fy);
+    const double* __restrict const xs = column_x.data();
+    float* __restrict const row = prior.data() + std::size_t(r) * cols;
+    for (int c = 0; c < cols; ++c) {
+      const double descent = up_x * xs[c] + up_y + up_z;
+      const double depth = descent < 0.0 ? -height / descent : INFINITY;
+      row[c] = static_cast<float>(std::min(depth, far_depth));
     }
   }
   return prior;

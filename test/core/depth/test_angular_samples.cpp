@@ -40,6 +40,42 @@ TEST(AngularSamples, UsableSamplesDropNonFiniteAndBehindCamera) {
   EXPECT_EQ(usable[1].depth, 8.0f);
 }
 
+// The azimuth pre-filter of the projection passes: every direction that lands in the columns
+// passes (at any elevation), those a degree outside do not, and with a lens model (whose column
+// also depends on the elevation) only the front half is promised.
+TEST(AngularSamples, AzimuthWindowHoldsEveryDirectionInTheColumns) {
+  mm::PinholeIntrinsics k;
+  k.fx = 1500.0;
+  k.fy = 1500.0;
+  k.cx = 968.0;
+  k.cy = 608.0;
+  const mm::AzimuthWindow window = mm::azimuthWindow(k, -0.5, 1935.5);
+  int inside = 0;
+  for (double az = -60.0; az <= 60.0; az += 0.01) {
+    for (const double el : {-30.0, 0.0, 25.0}) {
+      double u = 0.0, v = 0.0;
+      ASSERT_TRUE(mm::angularToPixel(k, az, el, &u, &v));
+      if (u >= -0.5 && u <= 1935.5) {
+        EXPECT_TRUE(window.contains(az)) << az;
+        ++inside;
+      }
+    }
+    if (az < window.min_deg - 1.0 || az > window.max_deg + 1.0) {
+      double u = 0.0, v = 0.0;
+      mm::angularToPixel(k, az, 0.0, &u, &v);
+      EXPECT_TRUE(u < -0.5 || u > 1935.5) << az;
+    }
+  }
+  EXPECT_GT(inside, 3 * 5000);  // the 64-degree field of view was sampled
+  EXPECT_NEAR(window.max_deg - window.min_deg, 2.0 * std::atan(968.0 / 1500.0) * 180.0 / M_PI,
+              0.01);
+  EXPECT_FALSE(window.contains(std::numeric_limits<double>::quiet_NaN()));
+  k.distortion = mm::LensDistortion::fromRos("plumb_bob", {-0.1, 0.1, 0.0, 0.0, 0.0}, "test");
+  const mm::AzimuthWindow lens = mm::azimuthWindow(k, -0.5, 1935.5);
+  EXPECT_EQ(lens.min_deg, -90.0);
+  EXPECT_EQ(lens.max_deg, 90.0);
+}
+
 TEST(PixelPredictions, SetNoPredictionResizesAndClears) {
   mm::PixelPredictions out;
   out.mean.assign(3, 1.0f);

@@ -49,6 +49,19 @@ std::vector<AngularSample> usableSamples(const std::vector<AngularSample>& sampl
 bool angularToPixel(const PinholeIntrinsics& k, double azimuth_deg, double elevation_deg, double* u,
                     double* v);
 
+/// Azimuths (degrees) outside which no direction lands in the image columns [u_min, u_max]
+/// (full-image pixels): through a pinhole lens a direction's column depends on its azimuth alone,
+/// u = cx + fx tan(az), so a return far outside the window can be skipped before any tangent.
+/// Widened by a margin far above the rounding of atan, so that the exact test after it decides;
+/// with lens distortion (u depends on the elevation too) the whole front half, (-90, 90).
+struct AzimuthWindow {
+  double min_deg = -90.0, max_deg = 90.0;
+  bool contains(double azimuth_deg) const {
+    return azimuth_deg >= min_deg && azimuth_deg <= max_deg;  // false for NaN
+  }
+};
+AzimuthWindow azimuthWindow(const PinholeIntrinsics& k, double u_min, double u_max);
+
 /// The undistorted arithmetic of angularToPixel from the angles' tangents and cosine (radians),
 /// for callers that reuse those terms across many projections (the triangulation's pixel boxes);
 /// angularToPixel computes through these, so both give the same bits.

@@ -409,15 +409,9 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
   };
   // The returns that project into the grid's columns (or just beside them) and not below it. Two
   // tangents and a cosine per return were ~5 ms of serial work on a 360-degree HDL-64 sweep: the
-  // returns are projected in chunks on the pool (kept in order), and through a pinhole lens a
-  // return's column depends on its azimuth alone, so returns far outside the columns' azimuths
-  // are skipped before any tangent (with a margin: the exact test below decides).
-  double az_lo = -90.0, az_hi = 90.0;
-  if (!k.distortion.any()) {
-    constexpr double kMarginDeg = 1e-3;
-    az_lo = std::atan((-1.0 * grid.stride - k.cx) / k.fx) * 180.0 / M_PI - kMarginDeg;
-    az_hi = std::atan((double(cols) * grid.stride - k.cx) / k.fx) * 180.0 / M_PI + kMarginDeg;
-  }
+  // returns are projected in chunks on the pool (kept in order), and those outside the columns'
+  // azimuths are skipped before any tangent (azimuthWindow; the exact test below decides).
+  const AzimuthWindow window = azimuthWindow(k, -1.0 * grid.stride, double(cols) * grid.stride);
   constexpr std::size_t kChunk = 8192;
   const std::size_t chunks = (usable.size() + kChunk - 1) / kChunk;
   std::vector<std::vector<Projected>> parts(chunks);
@@ -426,7 +420,7 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
     const std::size_t end = std::min(usable.size(), begin + kChunk);
     for (std::size_t i = begin; i < end; ++i) {
       const AngularSample& s = usable[i];
-      if (!(s.azimuth_deg >= az_lo && s.azimuth_deg <= az_hi)) continue;
+      if (!window.contains(s.azimuth_deg)) continue;
       double u = 0, v = 0;
       if (!angularToPixel(k, s.azimuth_deg, s.elevation_deg, &u, &v)) continue;
       u /= grid.stride;

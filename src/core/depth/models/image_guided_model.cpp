@@ -69,12 +69,38 @@ std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>
                                   float far_depth, const std::vector<int>& top_return_row,
                                   double gradient, double brightness, double max_warmth) {
   const int rows = guide.rows, cols = guide.cols;
+  std::vector<std::uint8_t> sky(std::size_t(rows) * cols, 0);
+  // A column's sky ends at its top return and at its first pixel with a nearer prior (the
+  // ground): the image below the lowest such row is never read, so the grey image and its gradient
+  // are made for the rows above it and one more (the 3x3 Sobel of the last row read needs the row
+  // below; the same values as on the whole image). At full resolution the whole-image conversion
+  // and gradients were most of the test's time.
+  std::vector<int> column_end(cols);
+  std::vector<std::uint8_t> open(cols);
+  int open_columns = 0;
+  for (int c = 0; c < cols; ++c) {
+    column_end[c] = std::min(rows, top_return_row[c]);
+    open[c] = column_end[c] > 0;
+    open_columns += open[c];
+  }
+  for (int r = 0; r < rows && open_columns > 0; ++r) {  // row by row: the prior is row-major
+    const float* prior_row = prior.data() + std::size_t(r) * cols;
+    for (int c = 0; c < cols; ++c) {
+      if (!open[c]) continue;
+      if (prior_row[c] < far_depth) column_end[c] = r;
+      if (prior_row[c] < far_depth || r + 1 >= column_end[c]) {
+        open[c] = 0;
+        --open_columns;
+      }
+    }
+  }
+  const int end_rows = *std::max_element(column_end.begin(), column_end.end());
+  if (end_rows == 0) return sky;
   cv::Mat gray, gx, gy;
-  cv::cvtColor(guide, gray, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(guide.rowRange(0, std::min(rows, end_rows + 1)), gray, cv::COLOR_BGR2GRAY);
   // Sobel's 3x3 weights sum to 8 over the two sides: scale 1/8 gives the step per pixel.
   cv::Sobel(gray, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
   cv::Sobel(gray, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
-  std::vector<std::uint8_t> sky(std::size_t(rows) * cols, 0);
   const float limit = static_cast<float>(gradient);
   for (int c = 0; c < cols; ++c) {
     const int end = std::min(rows, top_return_row[c]);
@@ -92,6 +118,34 @@ std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>
 
 namespace {
 
+/// Calls visit(row, col, depth) for every grid pixel within `splat_radius` of a usable return's
+/// (rounded) pixel. Through the pinhole model (lens distortion is not applied here): the grid is
+/// the image's, subsampled. Returns outside the grid's columns are skipped before any tangent
+/// (azimuthWindow): a 360-degree LiDAR sweep has ~5x more of them than returns in view.
+template <class Visit>
+void forEachReturnPixel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                        int splat_radius, Visit&& visit) {
+  const StrideGrid& grid = angles.grid();
+  const PinholeIntrinsics& k = angles.intrinsics();
+  const int rows = grid.rows(), cols = grid.cols();
+  PinholeIntrinsics pinhole = k;
+  pinhole.distortion = {};
+  const AzimuthWindow window =
+      azimuthWindow(pinhole, -0.5 * grid.stride, (double(cols) - 0.5) * grid.stride);
+  for (const AngularSample& s : samples) {
+    if (!(s.depth > 0.0f) || !std::isfinite(s.depth) || !window.contains(s.azimuth_deg)) continue;
+    const Eigen::Vector2d xy = normalisedFromAngles(s.azimuth_deg, s.elevation_deg);
+    const double u = (k.fx * xy.x() + k.cx) / grid.stride;
+    const double v = (k.fy * xy.y() + k.cy) / grid.stride;
+    if (!(u > -0.5 && v > -0.5 && u < cols - 0.5 && v < rows - 0.5)) continue;
+    const int c0 = static_cast<int>(std::lround(u)), r0 = static_cast<int>(std::lround(v));
+    for (int r = std::max(0, r0 - splat_radius); r <= std::min(rows - 1, r0 + splat_radius); ++r) {
+      for (int c = std::max(0, c0 - splat_radius); c <= std::min(cols - 1, c0 + splat_radius); ++c)
+        visit(r, c, s.depth);
+    }
+  }
+}
+
 /// The nearest return per grid pixel (+inf where none) and, per column, the top row of a return.
 struct ReturnRaster {
   std::vector<float> depth;
@@ -100,29 +154,25 @@ struct ReturnRaster {
 
 ReturnRaster rasterReturns(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                            int splat_radius) {
-  const StrideGrid& grid = angles.grid();
-  const PinholeIntrinsics& k = angles.intrinsics();
-  const int rows = grid.rows(), cols = grid.cols();
+  const int rows = angles.grid().rows(), cols = angles.grid().cols();
   ReturnRaster raster;
   raster.depth.assign(std::size_t(rows) * cols, INFINITY);
   raster.top_row.assign(cols, rows);
-  for (const AngularSample& s : samples) {
-    if (!(s.depth > 0.0f) || !std::isfinite(s.depth)) continue;
-    const Eigen::Vector2d xy = normalisedFromAngles(s.azimuth_deg, s.elevation_deg);
-    const double u = (k.fx * xy.x() + k.cx) / grid.stride;
-    const double v = (k.fy * xy.y() + k.cy) / grid.stride;
-    if (!(u > -0.5 && v > -0.5 && u < cols - 0.5 && v < rows - 0.5)) continue;
-    const int c0 = static_cast<int>(std::lround(u)), r0 = static_cast<int>(std::lround(v));
-    for (int r = std::max(0, r0 - splat_radius); r <= std::min(rows - 1, r0 + splat_radius); ++r) {
-      for (int c = std::max(0, c0 - splat_radius); c <= std::min(cols - 1, c0 + splat_radius);
-           ++c) {
-        float& d = raster.depth[std::size_t(r) * cols + c];
-        d = std::min(d, s.depth);
-        raster.top_row[c] = std::min(raster.top_row[c], r);
-      }
-    }
-  }
+  forEachReturnPixel(samples, angles, splat_radius, [&](int r, int c, float depth) {
+    float& d = raster.depth[std::size_t(r) * cols + c];
+    d = std::min(d, depth);
+    raster.top_row[c] = std::min(raster.top_row[c], r);
+  });
   return raster;
+}
+
+/// rasterReturns' top_row alone (the sky test needs no depth raster).
+std::vector<int> topReturnRows(const std::vector<AngularSample>& samples,
+                               const PixelAngleGrid& angles, int splat_radius) {
+  std::vector<int> top_row(angles.grid().cols(), angles.grid().rows());
+  forEachReturnPixel(samples, angles, splat_radius,
+                     [&](int r, int c, float) { top_row[c] = std::min(top_row[c], r); });
+  return top_row;
 }
 
 /// skyMask with the model's sky parameters: the one place that says which parameters make the test
@@ -217,7 +267,7 @@ void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGr
   const float far = static_cast<float>(g.far_depth);
   const std::vector<std::uint8_t> sky =
       skyMaskOf(guideOnGrid(image, angles.grid()), groundPriorDepth(angles, plane, g.far_depth),
-                rasterReturns(samples, angles, g.splat_radius_px).top_row, g);
+                topReturnRows(samples, angles, g.splat_radius_px), g);
   const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
   for (std::size_t i = 0; i < sky.size(); ++i) {
     if (!sky[i]) continue;
