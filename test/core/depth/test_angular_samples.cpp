@@ -44,11 +44,7 @@ TEST(AngularSamples, UsableSamplesDropNonFiniteAndBehindCamera) {
 // passes (at any elevation), those a degree outside do not, and with a lens model (whose column
 // also depends on the elevation) only the front half is promised.
 TEST(AngularSamples, AzimuthWindowHoldsEveryDirectionInTheColumns) {
-  mm::PinholeIntrinsics k;
-  k.fx = 1500.0;
-  k.fy = 1500.0;
-  k.cx = 968.0;
-  k.cy = 608.0;
+  mm::PinholeIntrinsics k(1500.0, 1500.0, 968.0, 608.0);  // VoD-like, 1936 px wide
   const mm::AzimuthWindow window = mm::azimuthWindow(k, -0.5, 1935.5);
   int inside = 0;
   for (double az = -60.0; az <= 60.0; az += 0.01) {
