@@ -103,8 +103,7 @@ std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>
   cv::Sobel(gray, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
   const float limit = static_cast<float>(gradient);
   for (int c = 0; c < cols; ++c) {
-    const int end = std::min(rows, top_return_row[c]);
-    for (int r = 0; r < end; ++r) {
+    for (int r = 0; r < column_end[c]; ++r) {
       const std::size_t i = std::size_t(r) * cols + c;
       if (prior[i] < far_depth || gray.at<std::uint8_t>(r, c) < brightness) break;
       if (std::hypot(gx.at<float>(r, c), gy.at<float>(r, c)) > limit) break;
