@@ -51,6 +51,24 @@ TEST(GlobalSmoother, AgreesWithOpenCvsFastGlobalSmoother) {
   }
 }
 
+// Each plane is solved alone (the planes share only the coefficients): the same bits whether it is
+// smoothed alone or with others, on one thread or two.
+TEST(GlobalSmoother, APlaneGetsTheSameBitsAloneOrWithOthersOnAnyThreadCount) {
+  cv::setRNGSeed(5);
+  const cv::Mat guide = smoothGuide(45, 37);
+  std::vector<cv::Mat> together(4);
+  for (cv::Mat& plane : together) {
+    plane.create(guide.size(), CV_32F);
+    cv::randu(plane, 0.0, 1.0);
+  }
+  std::vector<cv::Mat> alone{together[2].clone()};
+  mm::ThreadPool one(1), two(2);
+  mm::smoothAlongGuide(guide, together, {}, two);
+  mm::smoothAlongGuide(guide, alone, {}, one);
+  EXPECT_EQ(cv::norm(alone[0], together[2], cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::norm(alone[0], together[3], cv::NORM_INF), 0.0);
+}
+
 TEST(GlobalSmoother, ConstantStaysConstantAndOnePixelImagesWork) {
   mm::ThreadPool pool(2);
   const cv::Mat guide = smoothGuide(40, 70);
