@@ -13,6 +13,8 @@
 // with the share of the prior in the pixel's evidence.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "multimodal_nvs/core/common/errors.hpp"
@@ -258,6 +260,81 @@ void smoothSums(const cv::Mat& guide, const ImageGuidedParams& g, double lambda,
     cv::resize(coarse_sums[k], sums[k], sums[k].size(), 0, 0, cv::INTER_LINEAR);
 }
 
+/// One row of the evidence sums (w, w x, w x^2; x = 1 / depth): the prior's evidence at every
+/// pixel, a return's (weight 1) added where one fell. Branch-free so that it vectorises; the same
+/// arithmetic as adding under an `if`.
+void evidenceRow(const float* __restrict prior, const float* __restrict return_depth, float far,
+                 float prior_weight, int cols, float* __restrict sum_w, float* __restrict sum_wx,
+                 float* __restrict sum_wxx) {
+  for (int c = 0; c < cols; ++c) {
+    const float xp = 1.0f / std::min(prior[c], far);
+    const float w = prior_weight, wx = prior_weight * xp, wxx = prior_weight * xp * xp;
+    const bool has_return = std::abs(return_depth[c]) <= std::numeric_limits<float>::max();
+    const float xr = 1.0f / return_depth[c];
+    sum_w[c] = has_return ? w + 1.0f : w;
+    sum_wx[c] = has_return ? wx + xr : wx;
+    sum_wxx[c] = has_return ? wxx + xr * xr : wxx;
+  }
+}
+
+struct DepthFromEvidence {
+  float far;
+  float prior_weight;     // per grid pixel
+  float return_relative;  // a return's relative std
+  float prior_relative;   // the prior's relative std
+  float sky_variance;
+};
+
+/// One row of depth and variance from the smoothed sums: depth = 1 / (sum w x / sum w); the
+/// variance is the spread of the mixed evidence carried to depth (var(d) ~ var(x) / x^4, first
+/// order) plus a relative std between a return's and the prior's by the prior's share of the
+/// weight; with another model as the prior (kModelPrior), its own variance where only it speaks.
+/// Branch-free (both cases computed, one selected) so that it vectorises.
+// std::min / std::max by value: GCC 12 does not vectorise the reference-returning ones here.
+inline float minOf(float a, float b) {
+  return b < a ? b : a;
+}
+inline float maxOf(float a, float b) {
+  return a < b ? b : a;
+}
+
+template <bool kModelPrior>
+void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict sum_w,
+                          const float* __restrict sum_wx, const float* __restrict sum_wxx,
+                          const std::uint8_t* __restrict sky /* or null */,
+                          const float* __restrict prior_variance, int cols, float* __restrict mean,
+                          float* __restrict variance) {
+  // The smoother keeps sums positive up to rounding; the floor keeps the ratio finite.
+  const float weight_floor = e.prior_weight * 1e-3f, x_floor = 1.0f / e.far;
+  for (int c = 0; c < cols; ++c) {
+    const float w = maxOf(sum_w[c], weight_floor);
+    const float x = maxOf(sum_wx[c] / w, x_floor);
+    const float spread_x = maxOf(sum_wxx[c] / w - x * x, 0.0f);
+    const float depth = minOf(1.0f / x, e.far);
+    const float prior_share = minOf(1.0f, e.prior_weight / w);
+    const float mixing = spread_x * depth * depth * depth * depth;
+    const float relative = e.return_relative + (e.prior_relative - e.return_relative) * prior_share;
+    float v = mixing + (relative * depth) * (relative * depth);
+    if constexpr (kModelPrior) {
+      // Another model's prior brings its own (calibrated) variance: it holds where only the
+      // prior speaks, a return's relative std where the returns do.
+      const float at_return = e.return_relative * depth;
+      const float with_prior =
+          mixing + prior_share * prior_variance[c] + (1.0f - prior_share) * at_return * at_return;
+      v = std::abs(prior_variance[c]) <= std::numeric_limits<float>::max() ? with_prior : v;
+    }
+    mean[c] = depth;
+    variance[c] = v;
+  }
+  // Apart: with the byte-wide mask in the loop above GCC 12 vectorises neither.
+  for (int c = 0; sky != nullptr && c < cols; ++c) {
+    if (sky[c]) {
+      mean[c] = e.far;
+      variance[c] = e.sky_variance;
+    }
+  }
+}
+
 }  // namespace
 
 void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
@@ -320,23 +397,9 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
       rows,
       [&](long long row, int) {
         const int r = static_cast<int>(row);
-        float* sum_w = sums[0].ptr<float>(r);
-        float* sum_wx = sums[1].ptr<float>(r);
-        float* sum_wxx = sums[2].ptr<float>(r);
-        for (int c = 0; c < cols; ++c) {
-          const std::size_t i = std::size_t(r) * cols + c;
-          const float xp = 1.0f / std::min(prior[i], far);
-          float w = prior_weight, wx = prior_weight * xp, wxx = prior_weight * xp * xp;
-          if (std::isfinite(returns.depth[i])) {
-            const float xr = 1.0f / returns.depth[i];
-            w += 1.0f;
-            wx += xr;
-            wxx += xr * xr;
-          }
-          sum_w[c] = w;
-          sum_wx[c] = wx;
-          sum_wxx[c] = wxx;
-        }
+        evidenceRow(prior.data() + std::size_t(r) * cols,
+                    returns.depth.data() + std::size_t(r) * cols, far, prior_weight, cols,
+                    sums[0].ptr<float>(r), sums[1].ptr<float>(r), sums[2].ptr<float>(r));
       },
       16);
   const cv::Mat edge_guide = g.edges ? guide : cv::Mat(rows, cols, CV_8UC3, cv::Scalar::all(128));
@@ -344,43 +407,24 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
 
   out.mean.resize(n);
   out.variance.resize(n);
-  const float rel_return = static_cast<float>(g.return_relative_sigma);
-  const float rel_prior = static_cast<float>(g.relative_sigma);
-  const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
+  const DepthFromEvidence to_depth{far, prior_weight, static_cast<float>(g.return_relative_sigma),
+                                   static_cast<float>(g.relative_sigma),
+                                   static_cast<float>(g.sky_sigma * g.sky_sigma)};
   pool.parallelFor(
       rows,
       [&](long long row, int) {
         const int r = static_cast<int>(row);
-        const float* sum_w = sums[0].ptr<float>(r);
-        const float* sum_wx = sums[1].ptr<float>(r);
-        const float* sum_wxx = sums[2].ptr<float>(r);
-        for (int c = 0; c < cols; ++c) {
-          const std::size_t i = std::size_t(r) * cols + c;
-          if (!sky.empty() && sky[i]) {
-            out.mean[i] = far;
-            out.variance[i] = sky_variance;
-            continue;
-          }
-          // The smoother keeps sums positive up to rounding; the floor keeps the ratio finite.
-          const float w = std::max(sum_w[c], prior_weight * 1e-3f);
-          const float x = std::max(sum_wx[c] / w, 1.0f / far);
-          const float spread_x = std::max(sum_wxx[c] / w - x * x, 0.0f);
-          const float depth = std::min(1.0f / x, far);
-          const float prior_share = std::min(1.0f, prior_weight / w);
-          // d = 1/x: var(d) ~ var(x) / x^4 (first order).
-          const float mixing = spread_x * depth * depth * depth * depth;
-          out.mean[i] = depth;
-          const float prior_variance = model_prior != nullptr ? model_prior->variance[i] : NAN;
-          if (std::isfinite(prior_variance)) {
-            // Another model's prior brings its own (calibrated) variance: it holds where only
-            // the prior speaks, a return's relative std where the returns do.
-            const float at_return = rel_return * depth;
-            out.variance[i] = mixing + prior_share * prior_variance +
-                              (1.0f - prior_share) * at_return * at_return;
-          } else {
-            const float relative = rel_return + (rel_prior - rel_return) * prior_share;
-            out.variance[i] = mixing + (relative * depth) * (relative * depth);
-          }
+        const std::size_t i = std::size_t(r) * cols;
+        const std::uint8_t* sky_row = sky.empty() ? nullptr : sky.data() + i;
+        const float *sum_w = sums[0].ptr<float>(r), *sum_wx = sums[1].ptr<float>(r),
+                    *sum_wxx = sums[2].ptr<float>(r);
+        if (model_prior != nullptr) {
+          depthFromEvidenceRow<true>(to_depth, sum_w, sum_wx, sum_wxx, sky_row,
+                                     model_prior->variance.data() + i, cols, out.mean.data() + i,
+                                     out.variance.data() + i);
+        } else {
+          depthFromEvidenceRow<false>(to_depth, sum_w, sum_wx, sum_wxx, sky_row, nullptr, cols,
+                                      out.mean.data() + i, out.variance.data() + i);
         }
       },
       16);
