@@ -48,6 +48,14 @@ inline int squaredDistance(const std::uint8_t* a, const std::uint8_t* b) {
   return d0 * d0 + d1 * d1 + d2 * d2;
 }
 
+/// out[i] = squaredDistance(a + 3 i, b + 3 i) for i < count. A function of its own with restrict
+/// pointers: inline in the lambda the stores may alias its captured sizes and GCC keeps it scalar.
+void squaredDistances(const std::uint8_t* __restrict a, const std::uint8_t* __restrict b, int count,
+                      int* __restrict out) {
+  for (int i = 0; i < count; ++i)
+    out[i] = squaredDistance(a + 3 * i, b + 3 * i);
+}
+
 struct Weights {
   // Between (r, c) and (r, c + 1), 0 in the last column, in lanes: block b of rows [8b, 8b + 8)
   // holds columns [b * cols, (b + 1) * cols); rows past the image are 0. Floats, read as Lanes.
@@ -62,8 +70,12 @@ Weights edgeWeights(const cv::Mat& guide, float sigma, ThreadPool& pool) {
   const int blocks = (rows + kLaneCount - 1) / kLaneCount;
   Weights w{SimdVector<float>(std::size_t(blocks) * cols * kLaneCount),
             cv::Mat(rows, cols, CV_32F)};
-  pool.parallelFor(blocks, [&](long long b, int) {
+  std::vector<std::vector<int>> scratch(pool.size(), std::vector<int>(2 * std::size_t(cols)));
+  pool.parallelFor(blocks, [&](long long b, int worker) {
     Lanes* lanes = reinterpret_cast<Lanes*>(w.horizontal.data()) + std::size_t(b) * cols;
+    // The squared distances first (a loop that vectorises), then the table lookups.
+    int* __restrict right = scratch[worker].data();
+    int* __restrict down = right + cols;
     for (int k = 0; k < kLaneCount; ++k) {
       const int r = static_cast<int>(b) * kLaneCount + k;
       if (r >= rows) {
@@ -71,14 +83,20 @@ Weights edgeWeights(const cv::Mat& guide, float sigma, ThreadPool& pool) {
           lanes[c][k] = 0.0f;
         continue;
       }
-      const std::uint8_t* g = guide.ptr<std::uint8_t>(r);
-      const std::uint8_t* below = r + 1 < rows ? guide.ptr<std::uint8_t>(r + 1) : nullptr;
+      const std::uint8_t* __restrict g = guide.ptr<std::uint8_t>(r);
+      squaredDistances(g, g + 3, cols - 1, right);
       for (int c = 0; c + 1 < cols; ++c)
-        lanes[c][k] = table[squaredDistance(g + 3 * c, g + 3 * c + 3)];
+        lanes[c][k] = table[right[c]];
       lanes[cols - 1][k] = 0.0f;
-      float* v = w.vertical.ptr<float>(r);
+      float* __restrict v = w.vertical.ptr<float>(r);
+      if (r + 1 == rows) {
+        std::fill(v, v + cols, 0.0f);
+        continue;
+      }
+      const std::uint8_t* __restrict below = guide.ptr<std::uint8_t>(r + 1);
+      squaredDistances(g, below, cols, down);
       for (int c = 0; c < cols; ++c)
-        v[c] = below ? table[squaredDistance(g + 3 * c, below + 3 * c)] : 0.0f;
+        v[c] = table[down[c]];
     }
   });
   return w;
