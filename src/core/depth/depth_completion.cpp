@@ -107,7 +107,8 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   // One huge frame must not pin its work buffers for the rest of the run.
   const std::size_t pixels = static_cast<std::size_t>(grid.size());
   if (capacityFarExceeds(model_scratch_.longest_edge.capacity(), pixels) ||
-      capacityFarExceeds(model_scratch_.filled.capacity(), pixels)) {
+      capacityFarExceeds(model_scratch_.filled.capacity(), pixels) ||
+      capacityFarExceeds(model_scratch_.model_prior.mean.capacity(), pixels)) {
     model_scratch_ = ModelScratch{};
   }
   // The models write into the output's own buffers (capacity reused across calls).

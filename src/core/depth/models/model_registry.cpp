@@ -139,7 +139,8 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     // ground_gp first, on the same ground, then its prediction as the prior.
     DepthCompletionParams ground_gp = params;
     ground_gp.model = DepthModel::kGroundGp;
-    PixelPredictions prior;
+    PixelPredictions own_prior;
+    PixelPredictions& prior = scratch != nullptr ? scratch->model_prior : own_prior;
     const int sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior,
                                           ground, scratch, triangulation);
     predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior);

@@ -19,6 +19,7 @@ struct PixelPredictions {
 struct ModelScratch {
   std::vector<std::uint8_t> filled;  ///< ground_gp dense: pixels inside a triangle
   std::vector<float> longest_edge;   ///< ground_gp dense: longest edge (deg) of a pixel's triangle
+  PixelPredictions model_prior;      ///< image_guided: ground_gp's prediction, its prior
 };
 
 /// Variance of a pixel that got no prediction.
