@@ -3,12 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 #include "multimodal_nvs/core/common/buffer_reuse.hpp"
 #include "multimodal_nvs/core/common/elapsed.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
+#include "multimodal_nvs/core/common/vectorisable_math.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_shift.hpp"
 #include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
@@ -55,8 +55,8 @@ long long markCandidates(const float* __restrict mean, const float* __restrict v
   long long predicted = 0;
   for (std::size_t i = 0; i < count; ++i) {
     const float v = variance[i], m = mean[i];
-    const bool finite_v = std::abs(v) <= std::numeric_limits<float>::max();
-    const bool finite_m = std::abs(m) <= std::numeric_limits<float>::max();
+    const bool finite_v = isFiniteVectorisable(v);
+    const bool finite_m = isFiniteVectorisable(m);
     predicted += finite_v;
     candidate[i] = finite_v & (v <= threshold) & finite_m;
   }

@@ -19,6 +19,7 @@
 #include <type_traits>
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
+#include "multimodal_nvs/core/common/vectorisable_math.hpp"
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/angular_triangulation.hpp"
@@ -40,10 +41,10 @@ constexpr double kGroundMargin = 0.1;
 constexpr double kResidualLengthScaleToleranceDeg = 0.05;
 
 // The prior: min(ground depth, surface depth), the far value where neither bounds the depth.
-// std::min and std::isfinite spelled out: GCC does not vectorise the full-image pass with them.
+// vectorisable_math.hpp's spellings: GCC does not vectorise the full-image pass with the std ones.
 inline float priorDepth(float ground, float nearest, float far) {
-  const float prior = nearest < ground ? nearest : ground;
-  return std::fabs(prior) <= std::numeric_limits<float>::max() ? prior : far;
+  const float prior = minOf(ground, nearest);
+  return isFiniteVectorisable(prior) ? prior : far;
 }
 
 /// Each grid column's normalised image x, (c - cx) / fx, of an undistorted camera: the x of

@@ -14,11 +14,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/global_smoother.hpp"
+#include "multimodal_nvs/core/common/vectorisable_math.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/nearest_model.hpp"
 
@@ -269,7 +269,7 @@ void evidenceRow(const float* __restrict prior, const float* __restrict return_d
   for (int c = 0; c < cols; ++c) {
     const float xp = 1.0f / std::min(prior[c], far);
     const float w = prior_weight, wx = prior_weight * xp, wxx = prior_weight * xp * xp;
-    const bool has_return = std::abs(return_depth[c]) <= std::numeric_limits<float>::max();
+    const bool has_return = isFiniteVectorisable(return_depth[c]);
     const float xr = 1.0f / return_depth[c];
     sum_w[c] = has_return ? w + 1.0f : w;
     sum_wx[c] = has_return ? wx + xr : wx;
@@ -290,14 +290,6 @@ struct DepthFromEvidence {
 /// order) plus a relative std between a return's and the prior's by the prior's share of the
 /// weight; with another model as the prior (kModelPrior), its own variance where only it speaks.
 /// Branch-free (both cases computed, one selected) so that it vectorises.
-// std::min / std::max by value: GCC 12 does not vectorise the reference-returning ones here.
-inline float minOf(float a, float b) {
-  return b < a ? b : a;
-}
-inline float maxOf(float a, float b) {
-  return a < b ? b : a;
-}
-
 template <bool kModelPrior>
 void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict sum_w,
                           const float* __restrict sum_wx, const float* __restrict sum_wxx,
@@ -321,7 +313,7 @@ void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict su
       const float at_return = e.return_relative * depth;
       const float with_prior =
           mixing + prior_share * prior_variance[c] + (1.0f - prior_share) * at_return * at_return;
-      v = std::abs(prior_variance[c]) <= std::numeric_limits<float>::max() ? with_prior : v;
+      v = isFiniteVectorisable(prior_variance[c]) ? with_prior : v;
     }
     mean[c] = depth;
     variance[c] = v;
