@@ -380,8 +380,9 @@ void BM_Lidar00549_ImageSky(benchmark::State& state) {
   mm::PixelPredictions out;
   out.mean.assign(std::size_t(grid.grid().size()), 10.0f);
   out.variance.assign(out.mean.size(), 1.0f);
+  mm::ThreadPool pool(0);
   for (auto _ : state) {
-    mm::applyImageSky(samples, grid, params, plane, image, out);
+    mm::applyImageSky(samples, grid, params, plane, image, pool, out);
     benchmark::DoNotOptimize(out.mean.data());
   }
 }

@@ -67,56 +67,6 @@ cv::Mat guideOnGrid(const cv::Mat& image, const StrideGrid& grid) {
   return out;
 }
 
-std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>& prior,
-                                  float far_depth, const std::vector<int>& top_return_row,
-                                  double gradient, double brightness, double max_warmth) {
-  const int rows = guide.rows, cols = guide.cols;
-  std::vector<std::uint8_t> sky(std::size_t(rows) * cols, 0);
-  // A column's sky ends at its top return and at its first pixel with a nearer prior (the
-  // ground): the image below the lowest such row is never read, so the grey image and its gradient
-  // are made for the rows above it and one more (the 3x3 Sobel of the last row read needs the row
-  // below; the same values as on the whole image). At full resolution the whole-image conversion
-  // and gradients were most of the test's time.
-  std::vector<int> column_end(cols);
-  std::vector<std::uint8_t> open(cols);
-  int open_columns = 0;
-  for (int c = 0; c < cols; ++c) {
-    column_end[c] = std::min(rows, top_return_row[c]);
-    open[c] = column_end[c] > 0;
-    open_columns += open[c];
-  }
-  for (int r = 0; r < rows && open_columns > 0; ++r) {  // row by row: the prior is row-major
-    const float* prior_row = prior.data() + std::size_t(r) * cols;
-    for (int c = 0; c < cols; ++c) {
-      if (!open[c]) continue;
-      if (prior_row[c] < far_depth) column_end[c] = r;
-      if (prior_row[c] < far_depth || r + 1 >= column_end[c]) {
-        open[c] = 0;
-        --open_columns;
-      }
-    }
-  }
-  const int end_rows = *std::max_element(column_end.begin(), column_end.end());
-  if (end_rows == 0) return sky;
-  cv::Mat gray, gx, gy;
-  cv::cvtColor(guide.rowRange(0, std::min(rows, end_rows + 1)), gray, cv::COLOR_BGR2GRAY);
-  // Sobel's 3x3 weights sum to 8 over the two sides: scale 1/8 gives the step per pixel.
-  cv::Sobel(gray, gx, CV_32F, 1, 0, 3, 1.0 / 8.0);
-  cv::Sobel(gray, gy, CV_32F, 0, 1, 3, 1.0 / 8.0);
-  const float limit = static_cast<float>(gradient);
-  for (int c = 0; c < cols; ++c) {
-    for (int r = 0; r < column_end[c]; ++r) {
-      const std::size_t i = std::size_t(r) * cols + c;
-      if (prior[i] < far_depth || gray.at<std::uint8_t>(r, c) < brightness) break;
-      if (std::hypot(gx.at<float>(r, c), gy.at<float>(r, c)) > limit) break;
-      const cv::Vec3b& bgr = guide.at<cv::Vec3b>(r, c);
-      if (int(bgr[2]) - int(bgr[0]) > max_warmth) break;
-      sky[i] = 1;
-    }
-  }
-  return sky;
-}
-
 namespace {
 
 /// Calls visit(row, col, depth) for every grid pixel within `splat_radius` of a usable return's
@@ -180,9 +130,9 @@ std::vector<int> topReturnRows(const std::vector<AngularSample>& samples,
 /// (image_guided's own sky and ground_gp's, applyImageSky).
 std::vector<std::uint8_t> skyMaskOf(const cv::Mat& guide, const std::vector<float>& prior,
                                     const std::vector<int>& top_return_row,
-                                    const ImageGuidedParams& g) {
+                                    const ImageGuidedParams& g, ThreadPool& pool) {
   return skyMask(guide, prior, static_cast<float>(g.far_depth), top_return_row, g.sky_gradient,
-                 g.sky_brightness, g.sky_max_warmth);
+                 g.sky_brightness, g.sky_max_warmth, &pool);
 }
 
 float medianDepth(const std::vector<AngularSample>& samples) {
@@ -331,11 +281,11 @@ void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict su
 
 void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                    const ImageGuidedParams& g, const GroundPlane& plane, const cv::Mat& image,
-                   PixelPredictions& out) {
+                   ThreadPool& pool, PixelPredictions& out) {
   const float far = static_cast<float>(g.far_depth);
   const std::vector<std::uint8_t> sky =
       skyMaskOf(guideOnGrid(image, angles.grid()), groundPriorDepth(angles, plane, g.far_depth),
-                topReturnRows(samples, angles, g.splat_radius_px), g);
+                topReturnRows(samples, angles, g.splat_radius_px), g, pool);
   const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
   for (std::size_t i = 0; i < sky.size(); ++i) {
     if (!sky[i]) continue;
@@ -359,18 +309,14 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
                                             : std::vector<float>(n, medianDepth(samples));
   const ReturnRaster returns = rasterReturns(samples, angles, g.splat_radius_px);
   std::vector<std::uint8_t> sky;
-  if (g.sky) sky = skyMaskOf(guide, prior, returns.top_row, g);
+  if (g.sky) sky = skyMaskOf(guide, prior, returns.top_row, g, pool);
 
   if (model_prior != nullptr) {
     // Another model's prediction (ground_gp's) is the prior: it already holds the ground, the
     // nearest surfaces and its own fit to the returns; the smoother adds the image's edges.
     if (model_prior->mean.size() != n || model_prior->variance.size() != n)
       throw InputError("image_guided: the model prior has the wrong size");
-    // The sky keeps the far clamp as its evidence, so that it does not pull its edge nearer.
-    for (std::size_t i = 0; i < n; ++i) {
-      const float d = model_prior->mean[i];
-      if ((sky.empty() || !sky[i]) && d > 0.0f && std::isfinite(d)) prior[i] = std::min(d, far);
-    }
+    // Taken over row by row in the evidence pass below, on rows in cache.
   } else if (g.surface_prior) {
     applySurfacePrior(samples, angles, g, far, sky, pool, prior);
   }
@@ -389,6 +335,15 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
       rows,
       [&](long long row, int) {
         const int r = static_cast<int>(row);
+        if (model_prior != nullptr) {
+          // The sky keeps the far clamp as its evidence, so that it does not pull its edge nearer.
+          const std::size_t begin = std::size_t(r) * cols;
+          for (std::size_t i = begin; i < begin + cols; ++i) {
+            const float d = model_prior->mean[i];
+            if ((sky.empty() || !sky[i]) && d > 0.0f && std::isfinite(d))
+              prior[i] = std::min(d, far);
+          }
+        }
         evidenceRow(prior.data() + std::size_t(r) * cols,
                     returns.depth.data() + std::size_t(r) * cols, far, prior_weight, cols,
                     sums[0].ptr<float>(r), sums[1].ptr<float>(r), sums[2].ptr<float>(r));

@@ -121,7 +121,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     const int sets = predictGroundGpModel(samples, angles, params, choice, shift, pool, out, ground,
                                           scratch, triangulation);
     if (params.ground.image_sky && !image.empty())
-      applyImageSky(samples, angles, params.guided, choice.plane, image, out);
+      applyImageSky(samples, angles, params.guided, choice.plane, image, pool, out);
     return sets;
   }
   if (params.model == DepthModel::kImageGuided) {

@@ -12,6 +12,7 @@
 #include "multimodal_nvs/core/depth/depth_params.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+#include "multimodal_nvs/core/depth/sky_mask.hpp"
 
 namespace multimodal_nvs {
 
@@ -33,21 +34,10 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
 /// guided.sky_sigma^2. Throws InputError for an unusable image (guideOnGrid).
 void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                    const ImageGuidedParams& guided, const GroundPlane& plane, const cv::Mat& image,
-                   PixelPredictions& out);
+                   ThreadPool& pool, PixelPredictions& out);
 
 /// The image at the grid's pixels (u = 0, s, 2s, ...), 8-bit BGR. Throws InputError when the image
 /// is empty, of another size than grid.image or of an unsupported type.
 cv::Mat guideOnGrid(const cv::Mat& image, const StrideGrid& grid);
-
-/// The sky on the grid (1 = sky): in each column, the run of pixels from the top row down to the
-/// first image edge (8-bit gradient above `gradient`), the horizon (`prior` below `far_depth`) or
-/// the first return (`top_return_row[c]`, rows() where the column has none), whichever comes
-/// first, or the first pixel darker than `brightness` (8-bit gray) or warmer than `max_warmth`
-/// (red minus blue, 8-bit). No return comes from the sky, the sky touches the top of the image and
-/// is bright, and it is blue or gray, never red-tinted: a bright plain facade (beige, brick, a
-/// sign) reaching the top of the image is otherwise taken for sky.
-std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>& prior,
-                                  float far_depth, const std::vector<int>& top_return_row,
-                                  double gradient, double brightness, double max_warmth);
 
 }  // namespace multimodal_nvs
