@@ -2,22 +2,25 @@
 
 // Hand-written passes (not cv::Sobel on the whole sky region and a walk down each column): at VoD
 // full resolution that spelling took ~4.6 ms of the radar default's ~43 ms, serial: two float
-// gradient images of the upper half written and read back column by column, and one hypotf call
-// per sky pixel. Here the columns are walked in strips, row by row, and the gradient is formed
-// only at the pixels the walk reaches, from the gray image. The values are OpenCV's exactly: the
-// Sobel sums of 8-bit pixels are integers, and OpenCV's float result (kernel scaled by 1/8) is
-// that integer over 8 with no rounding anywhere (every partial sum needs < 24 bits).
+// gradient images of the upper half written and read back column by column, a scan of the prior
+// column by column, one hypotf call per sky pixel. Here every pass runs in bands of rows or strips
+// of columns, row by row; the walk's tests are integer comparisons on a row of the strip at a time
+// (they vectorise), and the gradient's square decides unless it is within rounding of the limit.
+// The values are OpenCV's exactly: the Sobel sums of 8-bit pixels are integers, and OpenCV's float
+// result (kernel scaled by 1/8) is that integer over 8 with no rounding anywhere (every partial
+// sum needs < 24 bits).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 namespace multimodal_nvs {
 namespace {
 
-// Columns per task of the walks: a strip's row segment is a few cache lines of each input.
-constexpr int kStripColumns = 64;
-// Rows per task of the gray conversion.
-constexpr int kGrayBandRows = 32;
+// Columns per task of the walk, rows per task of the other passes.
+constexpr int kStripColumns = 256;
+constexpr int kBandRows = 32;
+constexpr int kNoRow = std::numeric_limits<int>::max();
 
 /// OpenCV's default border (BORDER_REFLECT_101) for an index one step outside [0, length).
 inline int reflect101(int i, int length) {
@@ -36,15 +39,71 @@ void forEachTask(ThreadPool* pool, long long count, const std::function<void(lon
   pool->parallelFor(count, [&](long long i, int) { body(i); });
 }
 
-/// hypot(x / 8, y / 8) > limit for the Sobel sums x, y, as std::hypot on the floats decides it.
-/// The squares decide wherever the two sides differ by more than hypotf's rounding (a relative
-/// 1e-5 margin against its ~1e-7); in that margin hypotf itself does. Why: one hypotf call per sky
-/// pixel was ~1.7 ms of a VoD frame.
-inline bool gradientExceeds(int x, int y, float limit, double limit_sq_64, double margin) {
-  const double sum = double(x) * x + double(y) * y;  // 64 x the squared gradient, exact
-  if (sum > limit_sq_64 + margin) return true;
-  if (sum < limit_sq_64 - margin) return false;
-  return std::hypot(static_cast<float>(x) * 0.125f, static_cast<float>(y) * 0.125f) > limit;
+/// first[c] = the first row of [r0, r1) whose prior is nearer than `far`, if it is before
+/// first[c]. Branch-free so that it vectorises.
+void firstNearerRows(const float* __restrict prior, int cols, int r0, int r1, float far,
+                     int* __restrict first) {
+  for (int r = r0; r < r1; ++r) {
+    const float* __restrict row = prior + std::size_t(r) * cols;
+    for (int c = 0; c < cols; ++c) {
+      const int hit = row[c] < far ? r : kNoRow;
+      first[c] = first[c] < hit ? first[c] : hit;
+    }
+  }
+}
+
+/// The per-pixel tests as integer thresholds on the 8-bit values, deciding as the double and float
+/// comparisons do. The gradient test `hypot(x / 8, y / 8) > limit` on the Sobel sums x, y: the
+/// integer x^2 + y^2 decides outside a margin around 64 limit^2 far wider than hypotf's rounding
+/// (a relative 1e-5 against its ~1e-7); inside it hypotf itself does (gradientExceeds).
+struct SkyTests {
+  int dark_below;   // gray < brightness  <=>  gray < dark_below
+  int warm_above;   // red - blue > max_warmth  <=>  red - blue > warm_above
+  int steep_above;  // x^2 + y^2 > steep_above: surely an edge
+  int flat_below;   // x^2 + y^2 < flat_below: surely none; in between, gradientExceeds decides
+  float limit;
+
+  SkyTests(double gradient, double brightness, double max_warmth) {
+    dark_below = std::isnan(brightness) ? 0 : int(std::clamp(std::ceil(brightness), 0.0, 256.0));
+    warm_above =
+        std::isnan(max_warmth) ? 255 : int(std::clamp(std::floor(max_warmth), -256.0, 255.0));
+    limit = static_cast<float>(gradient);
+    const double limit_sq_64 = 64.0 * double(limit) * double(limit);
+    const double margin = 1e-5 * limit_sq_64 + 1e-3;
+    constexpr double kAboveAnySum = 1 << 22;  // x^2 + y^2 <= 2 * 1020^2
+    if (std::isnan(limit_sq_64)) {            // hypot > NaN is false: never an edge
+      steep_above = flat_below = int(kAboveAnySum);
+    } else {
+      steep_above = int(std::clamp(std::floor(limit_sq_64 + margin), -1.0, kAboveAnySum));
+      flat_below = int(std::clamp(std::ceil(limit_sq_64 - margin), -1.0, kAboveAnySum));
+    }
+  }
+
+  bool gradientExceeds(int x, int y) const {
+    return std::hypot(static_cast<float>(x) * 0.125f, static_cast<float>(y) * 0.125f) > limit;
+  }
+};
+
+/// One row of the walk's tests for columns [c0, c1) that are not on the image's border (c - 1 and
+/// c + 1 exist): pass[c - c0] = the sky may go on through this pixel (1), or not (0), or the
+/// gradient is too close to the limit to tell from the squares (2). Branch-free so that it
+/// vectorises.
+void skyTestsRow(const SkyTests& t, const std::uint8_t* __restrict above,
+                 const std::uint8_t* __restrict here, const std::uint8_t* __restrict below,
+                 const std::uint8_t* __restrict bgr, int c0, int c1,
+                 std::uint8_t* __restrict pass) {
+  const int dark_below = t.dark_below, warm_above = t.warm_above;
+  const int steep_above = t.steep_above, flat_below = t.flat_below;
+  for (int c = c0; c < c1; ++c) {
+    const int x = (above[c + 1] + 2 * here[c + 1] + below[c + 1]) -
+                  (above[c - 1] + 2 * here[c - 1] + below[c - 1]);
+    const int y =
+        (below[c - 1] + 2 * below[c] + below[c + 1]) - (above[c - 1] + 2 * above[c] + above[c + 1]);
+    const int sum = x * x + y * y;
+    const bool other_end = (here[c] < dark_below) | (bgr[3 * c + 2] - bgr[3 * c] > warm_above);
+    const bool steep = sum > steep_above, unsure = sum >= flat_below;
+    pass[c - c0] = other_end | steep ? 0 : unsure ? 2 : 1;
+  }
 }
 
 }  // namespace
@@ -56,74 +115,76 @@ std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>
   const int rows = guide.rows, cols = guide.cols;
   std::vector<std::uint8_t> sky(std::size_t(rows) * cols, 0);
   if (rows == 0 || cols == 0) return sky;
-  const int strips = (cols + kStripColumns - 1) / kStripColumns;
-  // A column's sky ends at its top return and at its first pixel with a nearer prior (the ground).
-  std::vector<int> column_end(cols);
-  forEachTask(pool, strips, [&](long long strip) {
-    const int c0 = static_cast<int>(strip) * kStripColumns;
-    const int c1 = std::min(cols, c0 + kStripColumns);
-    int last = 0;
-    for (int c = c0; c < c1; ++c) {
-      column_end[c] = std::min(rows, top_return_row[c]);
-      last = std::max(last, column_end[c]);
-    }
-    for (int r = 0; r < last; ++r) {  // row by row: the prior is row-major
-      const float* prior_row = prior.data() + std::size_t(r) * cols;
-      for (int c = c0; c < c1; ++c) {
-        if (r < column_end[c] && prior_row[c] < far_depth) column_end[c] = r;
-      }
-    }
+  // A column's sky ends at its top return and at its first pixel with a nearer prior (the ground):
+  // each band of rows finds its first such row per column, the earliest band's wins.
+  const int scan_rows =
+      std::min(rows, *std::max_element(top_return_row.begin(), top_return_row.end()));
+  const int bands = (scan_rows + kBandRows - 1) / kBandRows;
+  std::vector<int> band_first(std::size_t(bands) * cols, kNoRow);
+  forEachTask(pool, bands, [&](long long band) {
+    const int r0 = static_cast<int>(band) * kBandRows;
+    firstNearerRows(prior.data(), cols, r0, std::min(scan_rows, r0 + kBandRows), far_depth,
+                    band_first.data() + std::size_t(band) * cols);
   });
+  std::vector<int> column_end(cols);
+  for (int c = 0; c < cols; ++c) {
+    column_end[c] = std::min(rows, top_return_row[c]);
+    for (int b = 0; b < bands && column_end[c] > b * kBandRows; ++b)
+      column_end[c] = std::min(column_end[c], band_first[std::size_t(b) * cols + c]);
+  }
   const int end_rows = *std::max_element(column_end.begin(), column_end.end());
   if (end_rows == 0) return sky;
   // The gray image of the rows the walk reads: those above the lowest end and one more (the 3x3
   // gradient of the last row read needs the row below).
   const int gray_rows = std::min(rows, end_rows + 1);
   cv::Mat gray(gray_rows, cols, CV_8U);
-  forEachTask(pool, (gray_rows + kGrayBandRows - 1) / kGrayBandRows, [&](long long band) {
-    const int r0 = static_cast<int>(band) * kGrayBandRows;
-    const int r1 = std::min(gray_rows, r0 + kGrayBandRows);
+  forEachTask(pool, (gray_rows + kBandRows - 1) / kBandRows, [&](long long band) {
+    const int r0 = static_cast<int>(band) * kBandRows;
+    const int r1 = std::min(gray_rows, r0 + kBandRows);
     cv::Mat out = gray.rowRange(r0, r1);
     cv::cvtColor(guide.rowRange(r0, r1), out, cv::COLOR_BGR2GRAY);
   });
-  const float limit = static_cast<float>(gradient);
-  const double limit_sq_64 = 64.0 * double(limit) * double(limit);
-  const double margin = 1e-5 * limit_sq_64 + 1e-9;
-  forEachTask(pool, strips, [&](long long strip) {
+  const SkyTests tests(gradient, brightness, max_warmth);
+  forEachTask(pool, (cols + kStripColumns - 1) / kStripColumns, [&](long long strip) {
     const int c0 = static_cast<int>(strip) * kStripColumns;
     const int c1 = std::min(cols, c0 + kStripColumns);
-    std::uint8_t open[kStripColumns];
-    int open_columns = 0, last = 0;
+    // The strip's columns off the image's border, where the tests vectorise.
+    const int inner0 = std::max(c0, 1), inner1 = std::max(inner0, std::min(c1, cols - 1));
+    std::uint8_t open[kStripColumns], pass[kStripColumns];
+    int last = 0;
     for (int c = c0; c < c1; ++c) {
       open[c - c0] = column_end[c] > 0;
-      open_columns += open[c - c0];
       last = std::max(last, column_end[c]);
     }
-    for (int r = 0; r < last && open_columns > 0; ++r) {
+    for (int r = 0; r < last; ++r) {
       const std::uint8_t* above = gray.ptr<std::uint8_t>(reflect101(r - 1, gray_rows));
       const std::uint8_t* here = gray.ptr<std::uint8_t>(r);
       const std::uint8_t* below = gray.ptr<std::uint8_t>(reflect101(r + 1, gray_rows));
-      const cv::Vec3b* bgr = guide.ptr<cv::Vec3b>(r);
+      const std::uint8_t* bgr = guide.ptr<std::uint8_t>(r);
+      skyTestsRow(tests, above, here, below, bgr, inner0, inner1, pass + (inner0 - c0));
+      bool any_open = false;
       std::uint8_t* sky_row = sky.data() + std::size_t(r) * cols;
       for (int c = c0; c < c1; ++c) {
         std::uint8_t& is_open = open[c - c0];
         if (!is_open) continue;
-        const int left = reflect101(c - 1, cols), right = reflect101(c + 1, cols);
-        const int x = (above[right] + 2 * here[right] + below[right]) -
-                      (above[left] + 2 * here[left] + below[left]);
-        const int y = (below[left] + 2 * below[c] + below[right]) -
-                      (above[left] + 2 * above[c] + above[right]);
-        // r < column_end[c] implies the prior is not nearer than far_depth (see above).
-        const bool ends = r >= column_end[c] || here[c] < brightness ||
-                          gradientExceeds(x, y, limit, limit_sq_64, margin) ||
-                          int(bgr[c][2]) - int(bgr[c][0]) > max_warmth;
-        if (ends) {
-          is_open = 0;
-          --open_columns;
-          continue;
+        bool goes_on;
+        if (c >= inner0 && c < inner1 && pass[c - c0] != 2) {
+          goes_on = pass[c - c0] == 1;
+        } else {  // the image's border columns, or a gradient at the limit
+          const int left = reflect101(c - 1, cols), right = reflect101(c + 1, cols);
+          const int x = (above[right] + 2 * here[right] + below[right]) -
+                        (above[left] + 2 * here[left] + below[left]);
+          const int y = (below[left] + 2 * below[c] + below[right]) -
+                        (above[left] + 2 * above[c] + above[right]);
+          goes_on = here[c] >= tests.dark_below && !tests.gradientExceeds(x, y) &&
+                    bgr[3 * c + 2] - bgr[3 * c] <= tests.warm_above;
         }
-        sky_row[c] = 1;
+        // r < column_end[c] implies the prior is not nearer than far_depth (see above).
+        is_open = goes_on && r < column_end[c];
+        sky_row[c] = is_open;
+        any_open |= is_open;
       }
+      if (!any_open) break;
     }
   });
   return sky;

@@ -97,13 +97,16 @@ TEST(SkyMask, DecidesEveryPixelAsThePlainSobelAndColumnWalk) {
     for (int repeat = 0; repeat < 3; ++repeat) {
       const Case k = randomCase(size.height, size.width, rng);
       for (const double gradient : gradients) {
-        for (const double warmth : {10.0, 255.0}) {
-          const auto expected =
-              plainSkyMask(k.guide, k.prior, 100.0f, k.top_return_row, gradient, 120.0, warmth);
+        // Brightness and warmth limits between the 8-bit values too, and ones no pixel passes.
+        for (const auto& [brightness, warmth] :
+             std::vector<std::pair<double, double>>{{120, 10}, {120.5, 9.5}, {0, 255}, {300, 10}}) {
+          const auto expected = plainSkyMask(k.guide, k.prior, 100.0f, k.top_return_row, gradient,
+                                             brightness, warmth);
           for (mm::ThreadPool* pool : {static_cast<mm::ThreadPool*>(nullptr), &two, &three}) {
             const auto got = mm::skyMask(k.guide, k.prior, 100.0f, k.top_return_row, gradient,
-                                         120.0, warmth, pool);
-            ASSERT_EQ(got, expected) << size << " gradient " << gradient << " warmth " << warmth;
+                                         brightness, warmth, pool);
+            ASSERT_EQ(got, expected) << size << " gradient " << gradient << " brightness "
+                                     << brightness << " warmth " << warmth;
             ++compared;
           }
           sky_pixels += static_cast<int>(std::count(expected.begin(), expected.end(), 1));
@@ -112,6 +115,6 @@ TEST(SkyMask, DecidesEveryPixelAsThePlainSobelAndColumnWalk) {
     }
   }
   // The cases exercise both outcomes: long sky runs and runs cut by each test.
-  EXPECT_EQ(compared, 10 * 3 * 6 * 2 * 3);
+  EXPECT_EQ(compared, 10 * 3 * 6 * 4 * 3);
   EXPECT_GT(sky_pixels, 10000);
 }
