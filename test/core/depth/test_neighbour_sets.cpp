@@ -48,10 +48,23 @@ std::vector<int> bruteForceNeighbours(const std::vector<mm::AngularSample>& samp
 
 TEST(NeighbourSets, EveryPixelSeesExactlyTheBruteForceNeighbours) {
   const auto samples = randomSamples(60, 7);
-  for (int stride : {1, 3}) {
-    const mm::PixelAngleGrid grid(mm::test::smallCamera(), {mm::test::smallImage(), stride});
+  struct Case {
+    mm::ImageSize image;
+    int stride;
+    float radius;
+  };
+  // Narrow windows (a few columns), windows of more than 64 and 128 columns clipped at the image's
+  // sides, and windows of exactly 128 columns with runs up to their end.
+  const std::vector<Case> cases = {{mm::test::smallImage(), 1, 4.0f},
+                                   {mm::test::smallImage(), 3, 4.0f},
+                                   {mm::test::smallImage(), 1, 45.0f},
+                                   {{40, 128}, 1, 80.0f},
+                                   {{30, 192}, 1, 25.0f}};
+  for (const Case& test_case : cases) {
+    const int stride = test_case.stride;
+    const float radius = test_case.radius;
+    const mm::PixelAngleGrid grid(mm::test::smallCamera(), {test_case.image, stride});
     mm::ThreadPool pool(2);
-    const float radius = 4.0f;
     const auto sets = mm::NeighbourSets::build(samples, grid, radius, pool);
     std::vector<int> set_of(grid.grid().size(), -1);
     for (const auto& seg : sets.segments()) {
@@ -66,7 +79,7 @@ TEST(NeighbourSets, EveryPixelSeesExactlyTheBruteForceNeighbours) {
         const int id = set_of[std::size_t(r) * grid.grid().cols() + c];
         std::vector<int> got;
         if (id >= 0) got.assign(sets.members(id), sets.members(id) + sets.setSize(id));
-        ASSERT_EQ(got, expected) << "pixel " << r << "," << c;
+        ASSERT_EQ(got, expected) << "pixel " << r << "," << c << " radius " << radius;
       }
     }
     // Sets are distinct: deduplication worked.
