@@ -48,6 +48,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   g.sigma_color = config.guided_sigma_color;
   g.iterations = config.guided_iterations;
   g.smooth_scale = config.guided_smooth_scale;
+  g.prior_step_px = config.guided_prior_step_px;
   g.prior_weight = config.guided_prior_weight;
   g.far_depth = config.guided_far_depth;
   g.ground_prior = config.guided_ground_prior;
@@ -106,6 +107,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.guided_sigma_color = g.sigma_color;
   config.guided_iterations = g.iterations;
   config.guided_smooth_scale = g.smooth_scale;
+  config.guided_prior_step_px = g.prior_step_px;
   config.guided_prior_weight = g.prior_weight;
   config.guided_far_depth = g.far_depth;
   config.guided_ground_prior = g.ground_prior;

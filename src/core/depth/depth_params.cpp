@@ -151,6 +151,7 @@ void ImageGuidedParams::validate(const GroundPriorParams& plane) const {
   if (iterations < 1 || iterations > 32) fail("iterations must be in [1, 32]");
   if (splat_radius_px < 0 || splat_radius_px > 16) fail("splat_radius_px must be in [0, 16]");
   if (smooth_scale < 1 || smooth_scale > 8) fail("smooth_scale must be in [1, 8]");
+  if (prior_step_px < 1 || prior_step_px > 16) fail("prior_step_px must be in [1, 16]");
   if (ground_prior) {
     if (!(plane.camera_height > 0.0)) fail("needs ground camera_height > 0");
     if (!(std::abs(plane.up_x) + std::abs(plane.up_y) + std::abs(plane.up_z) > 0.0)) {

@@ -128,6 +128,10 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "the smoother runs on a grid this many times coarser than the output")
       ->check(atLeast(1))
       ->group(guided);
+  app.add_option("--guided-prior-step-px", ig.prior_step_px,
+                 "image pixels between the samples of ground_gp's prior (interpolated between)")
+      ->check(CLI::Range(1, 16))
+      ->group(guided);
   app.add_option("--guided-prior-weight", ig.prior_weight, "confidence of the prior per pixel")
       ->check(atLeast(0))
       ->group(guided);

@@ -104,6 +104,13 @@ struct ImageGuidedParams {
   /// spreads the returns along the image on top of it; dense input (LiDAR) always takes the
   /// ground and surface prior
   bool ground_gp_prior = true;
+  /// With ground_gp_prior: image pixels between the samples of ground_gp's prediction. At an
+  /// output stride below it the prediction is made on a grid prior_step_px / stride times coarser
+  /// (whole factors) and interpolated bilinearly, depth as its inverse. The prior is smooth but
+  /// where the smoother puts the image's edges: at VoD 08350's full resolution (step 4) the
+  /// model's depth moves by a median 4e-5 of itself, 0.04 % of the pixels by more than 1 %, and its
+  /// time drops by a fifth (1: ground_gp at every output pixel).
+  int prior_step_px = 4;
   bool edges = true;              ///< false: a uniform guide (no image edges; the ablation)
   bool sky = true;                ///< detect the sky and send it to far_depth
   double sky_gradient = 12.0;     ///< image gradient (8-bit units) that ends the sky in a column

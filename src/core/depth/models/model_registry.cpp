@@ -1,5 +1,8 @@
 #include "multimodal_nvs/core/depth/models/model_registry.hpp"
 
+#include <algorithm>
+#include <memory>
+
 #include "multimodal_nvs/core/depth/depth_shift.hpp"
 #include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
@@ -11,6 +14,7 @@
 #include "multimodal_nvs/core/depth/models/linear_model.hpp"
 #include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/models/nearest_model.hpp"
+#include "multimodal_nvs/core/depth/models/prediction_upsampling.hpp"
 #include "multimodal_nvs/core/depth/models/tiled_local_gp_model.hpp"
 #include "multimodal_nvs/core/depth/neighbour_sets.hpp"
 
@@ -141,8 +145,25 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     ground_gp.model = DepthModel::kGroundGp;
     PixelPredictions own_prior;
     PixelPredictions& prior = scratch != nullptr ? scratch->model_prior : own_prior;
-    const int sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior,
-                                          ground, scratch, triangulation);
+    // The prior is computed on a coarser grid when prior_step_px asks for it (only with the
+    // completer's scratch, which keeps that grid's angles between frames).
+    const StrideGrid& grid = angles.grid();
+    const int factor =
+        scratch != nullptr ? std::max(1, params.guided.prior_step_px / grid.stride) : 1;
+    int sets = 0;
+    if (factor > 1) {
+      const StrideGrid coarse{grid.image, grid.stride * factor};
+      if (!scratch->prior_angles || !scratch->prior_angles->matches(angles.intrinsics(), coarse)) {
+        scratch->prior_angles = std::make_unique<PixelAngleGrid>(angles.intrinsics(), coarse);
+      }
+      sets = predictGroundGpModel(samples, *scratch->prior_angles, ground_gp, choice, shift, pool,
+                                  scratch->coarse_prior, ground, scratch, triangulation);
+      upsamplePredictions(scratch->coarse_prior, coarse, grid, factor, pool,
+                          scratch->coarse_inverse_depth, prior);
+    } else {
+      sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior, ground,
+                                  scratch, triangulation);
+    }
     predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior);
     return sets;
   }

@@ -120,6 +120,7 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
   p.guided.sky = false;
   p.guided.lambda = 1e-9;
   p.guided.ground_gp_prior = true;
+  p.guided.prior_step_px = 1;  // at every pixel (the coarser prior grid has its own test below)
   const auto hybrid = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
   p.guided.ground_gp_prior = false;
   const auto own = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
@@ -137,6 +138,57 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
     }
   }
   EXPECT_GT(differ, compared / 4);
+}
+
+// On a prior grid four image pixels apart, the prior is ground_gp's prediction on that grid (at
+// every 4th pixel of every 4th row it is ground_gp's output at stride 4) interpolated between,
+// close to ground_gp's prediction at every pixel. At output stride 4 the prior grid is the output
+// grid: the same depth as with a step of one pixel.
+TEST(ImageGuided, CoarserPriorGridIsGroundGpOnThatGridInterpolated) {
+  const cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128));
+  const std::vector<Eigen::Vector3d> returns = {pointOnPixelRay(smallCamera(), 30, 70, 8.0),
+                                                pointOnPixelRay(smallCamera(), 120, 40, 15.0),
+                                                pointOnPixelRay(smallCamera(), 70, 90, 6.0)};
+  mm::DepthCompleter completer(2);
+  mm::DepthCompletionParams gp = guidedParams();
+  gp.model = mm::DepthModel::kGroundGp;
+  const auto ground_gp = completer.complete(returns, smallCamera(), {smallImage(), 1}, gp);
+  const auto ground_gp_coarse = completer.complete(returns, smallCamera(), {smallImage(), 4}, gp);
+  mm::DepthCompletionParams p = guidedParams();
+  p.guided.sky = false;
+  p.guided.lambda = 1e-9;  // the prior shows through
+  p.guided.ground_gp_prior = true;
+  p.guided.prior_step_px = 4;
+  const auto coarse = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  const int coarse_cols = ground_gp_coarse.grid.cols();
+  int on_lattice = 0;
+  double relative_error = 0.0;
+  for (int r = 0; r < smallImage().height; ++r) {
+    for (int c = 0; c < kCols; ++c) {
+      if (r % 4 == 0 && c % 4 == 0) {
+        const float sample =
+            std::min(ground_gp_coarse.depth[std::size_t(r / 4) * coarse_cols + c / 4], 100.0f);
+        ASSERT_NEAR(at(coarse, r, c), sample, 1e-4f * sample) << r << " " << c;
+        ++on_lattice;
+      }
+      const float full = std::min(at(ground_gp, r, c), 100.0f);
+      relative_error += std::abs(at(coarse, r, c) - full) / full;
+    }
+  }
+  EXPECT_EQ(on_lattice, 30 * 40);
+  const double mean_relative_error = relative_error / (double(smallImage().height) * kCols);
+  EXPECT_LT(mean_relative_error, 0.01);
+  EXPECT_GT(mean_relative_error, 0.0);  // an approximation, not ground_gp at every pixel
+  // Stride 4: the prior grid is the output grid.
+  const auto step4_stride4 =
+      completer.complete(returns, smallCamera(), {smallImage(), 4}, p, image);
+  p.guided.prior_step_px = 1;
+  const auto step1_stride4 =
+      completer.complete(returns, smallCamera(), {smallImage(), 4}, p, image);
+  EXPECT_EQ(step4_stride4.depth, step1_stride4.depth);
+  p.guided.prior_step_px = 0;
+  EXPECT_THROW(completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image),
+               mm::InputError);
 }
 
 // ground_gp's prediction is the prior on sparse input only: on input handled as dense (LiDAR;

@@ -2,6 +2,7 @@
 // What every depth model writes: a mean and a variance per output pixel.
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
@@ -20,6 +21,11 @@ struct ModelScratch {
   std::vector<std::uint8_t> filled;  ///< ground_gp dense: pixels inside a triangle
   std::vector<float> longest_edge;   ///< ground_gp dense: longest edge (deg) of a pixel's triangle
   PixelPredictions model_prior;      ///< image_guided: ground_gp's prediction, its prior
+  /// image_guided: the coarser grid of ground_gp's prior (guided.prior_step_px), the prediction
+  /// on it and its inverse depth.
+  std::unique_ptr<PixelAngleGrid> prior_angles;
+  PixelPredictions coarse_prior;
+  std::vector<float> coarse_inverse_depth;
 };
 
 /// Variance of a pixel that got no prediction.
