@@ -159,7 +159,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
       sets = predictGroundGpModel(samples, *scratch->prior_angles, ground_gp, choice, shift, pool,
                                   scratch->coarse_prior, ground, scratch, triangulation);
       upsamplePredictions(scratch->coarse_prior, coarse, grid, factor, pool,
-                          scratch->coarse_inverse_depth, prior);
+                          scratch->prior_upsampling, prior);
     } else {
       sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior, ground,
                                   scratch, triangulation);

@@ -12,10 +12,14 @@ void reciprocals(const float* __restrict in, int count, float* __restrict out) {
     out[i] = 1.0f / in[i];
 }
 
+/// out[i] = (1 - t) a[i] + t b[i], or its reciprocal.
+template <bool kReciprocal>
 void lerpRows(const float* __restrict a, const float* __restrict b, float t, int count,
               float* __restrict out) {
-  for (int i = 0; i < count; ++i)
-    out[i] = (1.0f - t) * a[i] + t * b[i];
+  for (int i = 0; i < count; ++i) {
+    const float value = (1.0f - t) * a[i] + t * b[i];
+    out[i] = kReciprocal ? 1.0f / value : value;
+  }
 }
 
 /// out[c] = (1 - t[c]) in[lo[c]] + t[c] in[hi[c]], or its reciprocal.
@@ -43,7 +47,7 @@ Between between(int i, int factor, int coarse_count) {
 
 void upsamplePredictions(const PixelPredictions& coarse, const StrideGrid& coarse_grid,
                          const StrideGrid& grid, int factor, ThreadPool& pool,
-                         std::vector<float>& inverse_scratch, PixelPredictions& out) {
+                         std::vector<float>& scratch, PixelPredictions& out) {
   const int rows = grid.rows(), cols = grid.cols();
   const int coarse_rows = coarse_grid.rows(), coarse_cols = coarse_grid.cols();
   out.mean.resize(std::size_t(rows) * cols);
@@ -56,32 +60,35 @@ void upsamplePredictions(const PixelPredictions& coarse, const StrideGrid& coars
     hi[c] = b.hi;
     t[c] = b.t;
   }
-  std::vector<float>& inverse = inverse_scratch;
-  inverse.resize(coarse.mean.size());
+  // Each coarse row spread over the output columns once (inverse depth and variance), then each
+  // output row blended from two of those: the index gathers run on a factor fewer rows.
+  const std::size_t wide = std::size_t(coarse_rows) * cols;
+  scratch.resize(2 * wide);
+  float* const wide_inverse = scratch.data();
+  float* const wide_variance = wide_inverse + wide;
+  std::vector<std::vector<float>> inverse_rows(pool.size(), std::vector<float>(coarse_cols));
   pool.parallelFor(
       coarse_rows,
-      [&](long long r, int) {
-        const std::size_t i = std::size_t(r) * coarse_cols;
-        reciprocals(coarse.mean.data() + i, coarse_cols, inverse.data() + i);
+      [&](long long r, int worker) {
+        const std::size_t in = std::size_t(r) * coarse_cols, at = std::size_t(r) * cols;
+        float* inverse = inverse_rows[worker].data();
+        reciprocals(coarse.mean.data() + in, coarse_cols, inverse);
+        expandRow<false>(inverse, lo.data(), hi.data(), t.data(), cols, wide_inverse + at);
+        expandRow<false>(coarse.variance.data() + in, lo.data(), hi.data(), t.data(), cols,
+                         wide_variance + at);
       },
-      16);
-  // Each output row: the two coarse rows blended, then spread over the output columns.
-  std::vector<std::vector<float>> blended(pool.size(), std::vector<float>(2 * coarse_cols));
+      4);
   pool.parallelFor(
       rows,
-      [&](long long row, int worker) {
+      [&](long long row, int) {
         const Between b = between(static_cast<int>(row), factor, coarse_rows);
-        float* inverse_row = blended[worker].data();
-        float* variance_row = inverse_row + coarse_cols;
-        lerpRows(inverse.data() + std::size_t(b.lo) * coarse_cols,
-                 inverse.data() + std::size_t(b.hi) * coarse_cols, b.t, coarse_cols, inverse_row);
-        lerpRows(coarse.variance.data() + std::size_t(b.lo) * coarse_cols,
-                 coarse.variance.data() + std::size_t(b.hi) * coarse_cols, b.t, coarse_cols,
-                 variance_row);
         const std::size_t at = std::size_t(row) * cols;
-        expandRow<true>(inverse_row, lo.data(), hi.data(), t.data(), cols, out.mean.data() + at);
-        expandRow<false>(variance_row, lo.data(), hi.data(), t.data(), cols,
-                         out.variance.data() + at);
+        // Inverse depth: affine in the image along a plane (the road).
+        lerpRows<true>(wide_inverse + std::size_t(b.lo) * cols,
+                       wide_inverse + std::size_t(b.hi) * cols, b.t, cols, out.mean.data() + at);
+        lerpRows<false>(wide_variance + std::size_t(b.lo) * cols,
+                        wide_variance + std::size_t(b.hi) * cols, b.t, cols,
+                        out.variance.data() + at);
       },
       16);
 }

@@ -22,10 +22,10 @@ struct ModelScratch {
   std::vector<float> longest_edge;   ///< ground_gp dense: longest edge (deg) of a pixel's triangle
   PixelPredictions model_prior;      ///< image_guided: ground_gp's prediction, its prior
   /// image_guided: the coarser grid of ground_gp's prior (guided.prior_step_px), the prediction
-  /// on it and its inverse depth.
+  /// on it and the interpolation's scratch.
   std::unique_ptr<PixelAngleGrid> prior_angles;
   PixelPredictions coarse_prior;
-  std::vector<float> coarse_inverse_depth;
+  std::vector<float> prior_upsampling;
 };
 
 /// Variance of a pixel that got no prediction.

@@ -12,9 +12,9 @@ namespace multimodal_nvs {
 /// pixel (r, c) lies at (r / factor, c / factor) of the coarse grid. Writes `out` on `grid` by
 /// bilinear interpolation, of inverse depth for the mean (affine in the image along a plane, the
 /// road; depth is not) and of the variance; past the coarse grid's last row or column the edge
-/// value holds. `inverse_scratch`: a buffer reused across calls. The coarse means must be > 0.
+/// value holds. `scratch`: a buffer reused across calls. The coarse means must be > 0.
 void upsamplePredictions(const PixelPredictions& coarse, const StrideGrid& coarse_grid,
                          const StrideGrid& grid, int factor, ThreadPool& pool,
-                         std::vector<float>& inverse_scratch, PixelPredictions& out);
+                         std::vector<float>& scratch, PixelPredictions& out);
 
 }  // namespace multimodal_nvs
