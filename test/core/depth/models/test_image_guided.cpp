@@ -104,22 +104,44 @@ TEST(ImageGuided, LateralPriorContinuesAWallTowardsTheImageCentre) {
   EXPECT_NEAR(at(own_depth, 30, 140), wall_depth, 0.05f);
 }
 
-// With ground_gp's prediction as the prior and a smoother too weak to move evidence, every pixel
-// without a return shows ground_gp's depth (capped at the far clamp) and variance; with the
-// model's own prior the same pixels differ.
-TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
-  const cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128));
-  const std::vector<Eigen::Vector3d> returns = {pointOnPixelRay(smallCamera(), 30, 70, 8.0),
-                                                pointOnPixelRay(smallCamera(), 120, 40, 15.0),
-                                                pointOnPixelRay(smallCamera(), 70, 90, 6.0)};
-  mm::DepthCompleter completer(2);
+namespace {
+/// Three returns at different depths, for the tests of ground_gp's prior.
+std::vector<Eigen::Vector3d> threeReturns() {
+  return {pointOnPixelRay(smallCamera(), 30, 70, 8.0),
+          pointOnPixelRay(smallCamera(), 120, 40, 15.0),
+          pointOnPixelRay(smallCamera(), 70, 90, 6.0)};
+}
+
+cv::Mat uniformGray() {
+  return cv::Mat(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128));
+}
+
+mm::DepthCompletionParams groundGp() {
   mm::DepthCompletionParams gp = guidedParams();
   gp.model = mm::DepthModel::kGroundGp;
-  const auto ground_gp = completer.complete(returns, smallCamera(), {smallImage(), 1}, gp);
+  return gp;
+}
+
+/// image_guided on ground_gp's prior with a smoother too weak to move evidence and no sky: the
+/// prior shows through.
+mm::DepthCompletionParams priorShowsThrough() {
   mm::DepthCompletionParams p = guidedParams();
   p.guided.sky = false;
   p.guided.lambda = 1e-9;
   p.guided.ground_gp_prior = true;
+  return p;
+}
+}  // namespace
+
+// With ground_gp's prediction as the prior and a smoother too weak to move evidence, every pixel
+// without a return shows ground_gp's depth (capped at the far clamp) and variance; with the
+// model's own prior the same pixels differ.
+TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
+  const cv::Mat image = uniformGray();
+  const std::vector<Eigen::Vector3d> returns = threeReturns();
+  mm::DepthCompleter completer(2);
+  const auto ground_gp = completer.complete(returns, smallCamera(), {smallImage(), 1}, groundGp());
+  mm::DepthCompletionParams p = priorShowsThrough();
   p.guided.prior_step_px = 1;  // at every pixel (the coarser prior grid has its own test below)
   const auto hybrid = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
   p.guided.ground_gp_prior = false;
@@ -145,19 +167,13 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
 // close to ground_gp's prediction at every pixel. At output stride 4 the prior grid is the output
 // grid: the same depth as with a step of one pixel.
 TEST(ImageGuided, CoarserPriorGridIsGroundGpOnThatGridInterpolated) {
-  const cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128));
-  const std::vector<Eigen::Vector3d> returns = {pointOnPixelRay(smallCamera(), 30, 70, 8.0),
-                                                pointOnPixelRay(smallCamera(), 120, 40, 15.0),
-                                                pointOnPixelRay(smallCamera(), 70, 90, 6.0)};
+  const cv::Mat image = uniformGray();
+  const std::vector<Eigen::Vector3d> returns = threeReturns();
   mm::DepthCompleter completer(2);
-  mm::DepthCompletionParams gp = guidedParams();
-  gp.model = mm::DepthModel::kGroundGp;
-  const auto ground_gp = completer.complete(returns, smallCamera(), {smallImage(), 1}, gp);
-  const auto ground_gp_coarse = completer.complete(returns, smallCamera(), {smallImage(), 4}, gp);
-  mm::DepthCompletionParams p = guidedParams();
-  p.guided.sky = false;
-  p.guided.lambda = 1e-9;  // the prior shows through
-  p.guided.ground_gp_prior = true;
+  const auto ground_gp = completer.complete(returns, smallCamera(), {smallImage(), 1}, groundGp());
+  const auto ground_gp_coarse =
+      completer.complete(returns, smallCamera(), {smallImage(), 4}, groundGp());
+  mm::DepthCompletionParams p = priorShowsThrough();
   p.guided.prior_step_px = 4;
   const auto coarse = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
   const int coarse_cols = ground_gp_coarse.grid.cols();
