@@ -22,14 +22,11 @@ void lerpRows(const float* __restrict a, const float* __restrict b, float t, int
   }
 }
 
-/// out[c] = (1 - t[c]) in[lo[c]] + t[c] in[hi[c]], or its reciprocal.
-template <bool kReciprocal>
+/// out[c] = (1 - t[c]) in[lo[c]] + t[c] in[hi[c]].
 void expandRow(const float* __restrict in, const int* __restrict lo, const int* __restrict hi,
                const float* __restrict t, int cols, float* __restrict out) {
-  for (int c = 0; c < cols; ++c) {
-    const float value = (1.0f - t[c]) * in[lo[c]] + t[c] * in[hi[c]];
-    out[c] = kReciprocal ? 1.0f / value : value;
-  }
+  for (int c = 0; c < cols; ++c)
+    out[c] = (1.0f - t[c]) * in[lo[c]] + t[c] * in[hi[c]];
 }
 
 /// The two coarse indices around output index i and the weight of the second.
@@ -73,9 +70,9 @@ void upsamplePredictions(const PixelPredictions& coarse, const StrideGrid& coars
         const std::size_t in = std::size_t(r) * coarse_cols, at = std::size_t(r) * cols;
         float* inverse = inverse_rows[worker].data();
         reciprocals(coarse.mean.data() + in, coarse_cols, inverse);
-        expandRow<false>(inverse, lo.data(), hi.data(), t.data(), cols, wide_inverse + at);
-        expandRow<false>(coarse.variance.data() + in, lo.data(), hi.data(), t.data(), cols,
-                         wide_variance + at);
+        expandRow(inverse, lo.data(), hi.data(), t.data(), cols, wide_inverse + at);
+        expandRow(coarse.variance.data() + in, lo.data(), hi.data(), t.data(), cols,
+                  wide_variance + at);
       },
       4);
   pool.parallelFor(
