@@ -52,6 +52,19 @@ void firstNearerRows(const float* __restrict prior, int cols, int r0, int r1, fl
   }
 }
 
+/// The 3x3 Sobel sums (OpenCV's kernels, before its 1/8 scale) at column c of the gray row `here`;
+/// `left` and `right` are the neighbouring columns (reflected at the image's border).
+struct SobelSums {
+  int x, y;
+};
+inline SobelSums sobelSums(const std::uint8_t* above, const std::uint8_t* here,
+                           const std::uint8_t* below, int left, int c, int right) {
+  return {
+      (above[right] + 2 * here[right] + below[right]) -
+          (above[left] + 2 * here[left] + below[left]),
+      (below[left] + 2 * below[c] + below[right]) - (above[left] + 2 * above[c] + above[right])};
+}
+
 /// The per-pixel tests as integer thresholds on the 8-bit values, deciding as the double and float
 /// comparisons do. The gradient test `hypot(x / 8, y / 8) > limit` on the Sobel sums x, y: the
 /// integer x^2 + y^2 decides outside a margin around 64 limit^2 far wider than hypotf's rounding
@@ -95,11 +108,8 @@ void skyTestsRow(const SkyTests& t, const std::uint8_t* __restrict above,
   const int dark_below = t.dark_below, warm_above = t.warm_above;
   const int steep_above = t.steep_above, flat_below = t.flat_below;
   for (int c = c0; c < c1; ++c) {
-    const int x = (above[c + 1] + 2 * here[c + 1] + below[c + 1]) -
-                  (above[c - 1] + 2 * here[c - 1] + below[c - 1]);
-    const int y =
-        (below[c - 1] + 2 * below[c] + below[c + 1]) - (above[c - 1] + 2 * above[c] + above[c + 1]);
-    const int sum = x * x + y * y;
+    const SobelSums g = sobelSums(above, here, below, c - 1, c, c + 1);
+    const int sum = g.x * g.x + g.y * g.y;
     const bool other_end = (here[c] < dark_below) | (bgr[3 * c + 2] - bgr[3 * c] > warm_above);
     const bool steep = sum > steep_above, unsure = sum >= flat_below;
     pass[c - c0] = other_end | steep ? 0 : unsure ? 2 : 1;
@@ -171,12 +181,9 @@ std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>
         if (c >= inner0 && c < inner1 && pass[c - c0] != 2) {
           goes_on = pass[c - c0] == 1;
         } else {  // the image's border columns, or a gradient at the limit
-          const int left = reflect101(c - 1, cols), right = reflect101(c + 1, cols);
-          const int x = (above[right] + 2 * here[right] + below[right]) -
-                        (above[left] + 2 * here[left] + below[left]);
-          const int y = (below[left] + 2 * below[c] + below[right]) -
-                        (above[left] + 2 * above[c] + above[right]);
-          goes_on = here[c] >= tests.dark_below && !tests.gradientExceeds(x, y) &&
+          const SobelSums g =
+              sobelSums(above, here, below, reflect101(c - 1, cols), c, reflect101(c + 1, cols));
+          goes_on = here[c] >= tests.dark_below && !tests.gradientExceeds(g.x, g.y) &&
                     bgr[3 * c + 2] - bgr[3 * c] <= tests.warm_above;
         }
         // r < column_end[c] implies the prior is not nearer than far_depth (see above).
