@@ -33,6 +33,10 @@ std::size_t appendAngularSamples(const Eigen::Vector3d* begin, const Eigen::Vect
       ++dropped;
       continue;
     }
+    // Behind the camera (or in its plane): depth <= 0, which the shift, the ground fit and every
+    // depth test ignore, and 90 deg or more off the optical axis, beyond any neighbourhood of a
+    // camera's pixels. Skipped before the two atan2: half of a 360-degree LiDAR sweep.
+    if (!(p.z() > 0.0)) continue;
     const double az = std::atan2(p.x(), p.z()) * kRadToDeg64;
     const double el = std::atan2(-p.y(), std::sqrt(p.x() * p.x() + p.z() * p.z())) * kRadToDeg64;
     out.push_back({static_cast<float>(az), static_cast<float>(el), static_cast<float>(p.z())});

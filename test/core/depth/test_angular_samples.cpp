@@ -40,6 +40,44 @@ TEST(AngularSamples, UsableSamplesDropNonFiniteAndBehindCamera) {
   EXPECT_EQ(usable[1].depth, 8.0f);
 }
 
+// Points behind the camera (z <= 0) never become samples (their depth would be <= 0 and their
+// direction 90 deg or more off the axis); the others keep their order, with or without a pool,
+// and non-finite points are counted.
+TEST(AngularSamples, ConversionSkipsPointsBehindTheCamera) {
+  const double inf = std::numeric_limits<double>::infinity();
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 40000; ++i) {  // more than one chunk of the pooled conversion
+    const double a = 0.001 * i;
+    points.emplace_back(10.0 * std::sin(a), 0.5 - 0.0001 * i, 10.0 * std::cos(a));
+  }
+  points.emplace_back(inf, 0.0, 1.0);
+  points.emplace_back(1.0, 0.0, 0.0);  // in the camera plane
+  std::size_t dropped = 0;
+  const std::vector<mm::AngularSample> serial = mm::toAngularSamples(points, &dropped);
+  EXPECT_EQ(dropped, 1u);
+  std::size_t in_front = 0;
+  for (const Eigen::Vector3d& p : points)
+    in_front += p.allFinite() && p.z() > 0.0;
+  ASSERT_EQ(serial.size(), in_front);
+  std::size_t k = 0;
+  for (const Eigen::Vector3d& p : points) {
+    if (!p.allFinite() || !(p.z() > 0.0)) continue;
+    EXPECT_EQ(serial[k].depth, static_cast<float>(p.z()));
+    EXPECT_EQ(serial[k].azimuth_deg,
+              static_cast<float>(std::atan2(p.x(), p.z()) * (180.0 / 3.14159265358979323846)));
+    EXPECT_LT(std::abs(serial[k].azimuth_deg), 90.0f);
+    ++k;
+  }
+  mm::ThreadPool pool(3);
+  const std::vector<mm::AngularSample> pooled = mm::toAngularSamples(points, nullptr, &pool);
+  ASSERT_EQ(pooled.size(), serial.size());
+  for (std::size_t i = 0; i < serial.size(); ++i) {
+    EXPECT_EQ(pooled[i].azimuth_deg, serial[i].azimuth_deg);
+    EXPECT_EQ(pooled[i].elevation_deg, serial[i].elevation_deg);
+    EXPECT_EQ(pooled[i].depth, serial[i].depth);
+  }
+}
+
 // The azimuth pre-filter of the projection passes: every direction that lands in the columns
 // passes (at any elevation), those a degree outside do not, and with a lens model (whose column
 // also depends on the elevation) only the front half is promised.

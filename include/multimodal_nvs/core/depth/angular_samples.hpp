@@ -21,7 +21,8 @@ struct AngularSample {
 
 /// Camera-frame points -> angular samples: az = atan2(x, z), el = atan2(-y, hypot(x, z)), computed
 /// in double and rounded to float32 (the reference's convention). Non-finite points are skipped and
-/// counted in `dropped_non_finite` when it is not null. With a `pool`, chunks of the points are
+/// counted in `dropped_non_finite` when it is not null; points behind the camera (z <= 0: depth
+/// <= 0, 90 deg or more off the optical axis) are skipped. With a `pool`, chunks of the points are
 /// converted in parallel and joined in order: the same samples in the same order.
 std::vector<AngularSample> toAngularSamples(const std::vector<Eigen::Vector3d>& points_camera,
                                             std::size_t* dropped_non_finite = nullptr,
