@@ -397,10 +397,21 @@ __attribute__((noinline)) void fillGapRow(const GapRowConstants& k, const double
 // with the angular distance above the return: the higher, the likelier the structure has ended.
 // A column whose topmost return is on the ground has no structure to extend and keeps the
 // nearest-sample prior.
-void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAngleGrid& angles,
-                         const GroundPlane& plane, const std::vector<std::uint8_t>& filled,
-                         const std::vector<float>& longest, const GroundPriorParams& g,
-                         ThreadPool& pool, PixelPredictions& out) {
+
+/// What the column extension extends: each column's topmost return (grid row and depth), the
+/// rows it extends down to (0: none) and the triangles' bridge length. It does not depend on the
+/// triangulation, so it is found while the triangulation runs.
+struct ColumnExtension {
+  std::vector<double> top_v;
+  std::vector<float> top_z;
+  std::vector<int> extend_rows;
+  double deg_per_px = 0.0, bridge_deg = 0.0;
+};
+
+ColumnExtension columnExtension(const std::vector<AngularSample>& usable,
+                                const PixelAngleGrid& angles, const GroundPlane& plane,
+                                ThreadPool& pool) {
+  ColumnExtension e;
   const StrideGrid& grid = angles.grid();
   const PinholeIntrinsics& k = angles.intrinsics();
   const int rows = grid.rows(), cols = grid.cols();
@@ -439,13 +450,15 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
       v1 = std::max(v1, q.v);
     }
   }
-  if (projected.empty()) return;
+  if (projected.empty()) return e;
   // A column's returns: those within half the mean sample spacing (grid pixels) of it, so that
   // each column sees about one return per ring and no neighbour's.
   const double spacing = std::sqrt(std::max(1.0, v1 - v0) * cols / double(projected.size()));
   const double band = kColumnBandSpacings * spacing;
-  std::vector<double> top_v(cols, INFINITY);
-  std::vector<float> top_z(cols, INFINITY);
+  std::vector<double>& top_v = e.top_v;
+  std::vector<float>& top_z = e.top_z;
+  top_v.assign(cols, INFINITY);
+  top_z.assign(cols, INFINITY);
   for (const Projected& q : projected) {
     const int c0 = std::max(0, static_cast<int>(std::ceil(q.u - band)));
     const int c1 = std::min(cols - 1, static_cast<int>(std::floor(q.u + band)));
@@ -471,10 +484,11 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
       }
     }
   }
-  const double deg_per_px = grid.stride * 180.0 / (M_PI * k.fy);
-  const double bridge_deg = kBridgeSpacings * spacing * deg_per_px;
+  e.deg_per_px = grid.stride * 180.0 / (M_PI * k.fy);
+  e.bridge_deg = kBridgeSpacings * spacing * e.deg_per_px;
   // The rows each column extends down to (0: not extended; a ground return is not extended).
-  std::vector<int> extend_rows(cols, 0);
+  std::vector<int>& extend_rows = e.extend_rows;
+  extend_rows.assign(cols, 0);
   for (int c = 0; c < cols; ++c) {
     if (!std::isfinite(top_z[c]) || top_v[c] <= 0.0) continue;
     double x = (double(c) * grid.stride - k.cx) / k.fx;
@@ -488,23 +502,54 @@ void extendColumnsUpward(const std::vector<AngularSample>& usable, const PixelAn
     if (top_z[c] >= (1.0 - kGroundMargin) * plane.depthAlong(x, y)) continue;  // ground
     extend_rows[c] = std::min(rows, static_cast<int>(std::ceil(top_v[c])));
   }
-  // Written row by row (a column at a time wrote one float per cache line).
-  const double dense_sigma = g.dense_relative_sigma, sigma_per_deg = g.relative_sigma_per_deg;
+  return e;
+}
+
+struct ExtensionRowConstants {
+  double bridge_deg, deg_per_px, dense_sigma, sigma_per_deg;
+};
+
+/// One row of the column extension: above its column's top return (r < extend_rows[c]) a pixel
+/// takes that return's depth, and a std growing with the angle above it; inside the triangulation
+/// its interpolation stands, unless the triangle bridges a region without returns (hull-edge
+/// triangles above the top ring reach across to whatever return is highest nearby, a pole top or
+/// a distant roof). Every pixel's values are computed and one kept (a select, not a branch);
+/// restrict pointers, or GCC keeps the loop scalar.
+void extendRow(const ExtensionRowConstants& k, int r, int cols, const int* __restrict extend_rows,
+               const double* __restrict top_v, const float* __restrict top_z,
+               const std::uint8_t* __restrict filled, const float* __restrict longest,
+               float* __restrict mean, float* __restrict variance) {
+  for (int c = 0; c < cols; ++c) {
+    const bool keep = (r >= extend_rows[c]) | ((filled[c] != 0) & (longest[c] <= k.bridge_deg));
+    const double above = (top_v[c] - r) * k.deg_per_px;
+    const double sigma = top_z[c] * (k.dense_sigma + k.sigma_per_deg * above);
+    const float extended_variance = static_cast<float>(sigma * sigma);
+    mean[c] = keep ? mean[c] : top_z[c];
+    variance[c] = keep ? variance[c] : extended_variance;
+  }
+}
+
+void extendColumnsUpward(const ColumnExtension& e, const PixelAngleGrid& angles,
+                         const std::vector<std::uint8_t>& filled, const std::vector<float>& longest,
+                         const GroundPriorParams& g, ThreadPool& pool, PixelPredictions& out) {
+  if (e.extend_rows.empty()) return;
+  const int cols = angles.grid().cols();
+  const std::vector<double>& top_v = e.top_v;
+  const std::vector<float>& top_z = e.top_z;
+  const std::vector<int>& extend_rows = e.extend_rows;
+  const double deg_per_px = e.deg_per_px, bridge_deg = e.bridge_deg;
+  // Written row by row (a column at a time wrote one float per cache line), branch-free so that
+  // the row vectorises; rows below every column's top return have nothing to extend.
+  const ExtensionRowConstants constants{bridge_deg, deg_per_px, g.dense_relative_sigma,
+                                        g.relative_sigma_per_deg};
+  const int last_row = *std::max_element(extend_rows.begin(), extend_rows.end());
   pool.parallelFor(
-      rows,
+      last_row,
       [&](long long r, int) {
-        for (int c = 0; c < cols; ++c) {
-          if (r >= extend_rows[c]) continue;
-          const std::size_t p = std::size_t(r) * cols + c;
-          // Inside the triangulation its interpolation stands, unless the triangle bridges a
-          // region without returns (hull-edge triangles above the top ring reach across to
-          // whatever return is highest nearby, a pole top or a distant roof).
-          if (filled[p] && longest[p] <= bridge_deg) continue;
-          const double above = (top_v[c] - r) * deg_per_px;
-          const double sigma = top_z[c] * (dense_sigma + sigma_per_deg * above);
-          out.mean[p] = top_z[c];
-          out.variance[p] = static_cast<float>(sigma * sigma);
-        }
+        const std::size_t row = std::size_t(r) * cols;
+        extendRow(constants, static_cast<int>(r), cols, extend_rows.data(), top_v.data(),
+                  top_z.data(), filled.data() + row, longest.data() + row, out.mean.data() + row,
+                  out.variance.data() + row);
       },
       16);
 }
@@ -554,9 +599,9 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   out.variance.resize(n);
   // The triangulation (CGAL, serial: ~20 ms of a VoD HDL-64 frame) runs on its own thread, started
   // by the caller before the ground plane's fit, while the pool builds what does not depend on it:
-  // the vote's bins and the gap fill's lattice. Why: in order it left the second core idle for a
-  // fifth of the frame. With a pool of one thread the caller asked for one thread, and everything
-  // runs in order.
+  // the vote's bins, the gap fill's lattice and the column extension's top returns. Why: in order
+  // it left the second core idle for a fifth of the frame. With a pool of one thread the caller
+  // asked for one thread, and everything runs in order.
   const bool overlap = triangulation.started();
   // Occlusion edges are decided by the pixel's surface_k nearest samples (any triangle).
   const std::vector<AngularSample> usable = usableSamples(samples);
@@ -566,7 +611,12 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   // (more than half of it lies above the highest ring).
   const int step = std::max(1, kFallbackStepPx / angles.grid().stride);
   std::optional<NearestSurfaceRows> gap_lattice;
-  if (overlap) gap_lattice.emplace(nearestSurfaceRows(samples, angles, 1, 1, step, pool));
+  // So is what the column extension extends (the returns projected to the columns).
+  std::optional<ColumnExtension> extension;
+  if (overlap) {
+    gap_lattice.emplace(nearestSurfaceRows(samples, angles, 1, 1, step, pool));
+    extension.emplace(columnExtension(usable, angles, plane, pool));
+  }
   std::vector<AngularTriangle> triangles = triangulation.get();
   std::vector<DenseVertexInfo> info(triangles.size());
   const double ratio = 1.0 + g.dense_edge_ratio;
@@ -727,7 +777,8 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
         }
       },
       16);
-  extendColumnsUpward(usable, angles, plane, filled, longest, g, pool, out);
+  if (!extension) extension.emplace(columnExtension(usable, angles, plane, pool));
+  extendColumnsUpward(*extension, angles, filled, longest, g, pool, out);
 }
 
 }  // namespace multimodal_nvs
