@@ -644,7 +644,9 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
       },
       1024);
   std::vector<std::uint8_t>& filled = scratch.filled;
-  // Read only where filled, and written wherever the rasteriser fills: no initialisation.
+  // Written wherever the rasteriser fills and meaningful only there (the column extension reads
+  // every pixel's, branch-free, and ignores it where not filled): no fill per frame; resize()
+  // value-initialises only new elements, so no read is of uninitialised memory.
   std::vector<float>& longest = scratch.longest_edge;
   longest.resize(n);
   // Tells the rasterising threads' vote memories of this call from those of earlier calls.
