@@ -534,21 +534,17 @@ void extendColumnsUpward(const ColumnExtension& e, const PixelAngleGrid& angles,
                          const GroundPriorParams& g, ThreadPool& pool, PixelPredictions& out) {
   if (e.extend_rows.empty()) return;
   const int cols = angles.grid().cols();
-  const std::vector<double>& top_v = e.top_v;
-  const std::vector<float>& top_z = e.top_z;
-  const std::vector<int>& extend_rows = e.extend_rows;
-  const double deg_per_px = e.deg_per_px, bridge_deg = e.bridge_deg;
   // Written row by row (a column at a time wrote one float per cache line), branch-free so that
   // the row vectorises; rows below every column's top return have nothing to extend.
-  const ExtensionRowConstants constants{bridge_deg, deg_per_px, g.dense_relative_sigma,
+  const ExtensionRowConstants constants{e.bridge_deg, e.deg_per_px, g.dense_relative_sigma,
                                         g.relative_sigma_per_deg};
-  const int last_row = *std::max_element(extend_rows.begin(), extend_rows.end());
+  const int last_row = *std::max_element(e.extend_rows.begin(), e.extend_rows.end());
   pool.parallelFor(
       last_row,
       [&](long long r, int) {
         const std::size_t row = std::size_t(r) * cols;
-        extendRow(constants, static_cast<int>(r), cols, extend_rows.data(), top_v.data(),
-                  top_z.data(), filled.data() + row, longest.data() + row, out.mean.data() + row,
+        extendRow(constants, static_cast<int>(r), cols, e.extend_rows.data(), e.top_v.data(),
+                  e.top_z.data(), filled.data() + row, longest.data() + row, out.mean.data() + row,
                   out.variance.data() + row);
       },
       16);
