@@ -212,7 +212,8 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
 // of the prior) or their depths differ by at most dense_edge_ratio. Inside a surface the pixel
 // interpolates 1/z over the three vertices; in a triangle that spans an edge, its surface is the
 // vertex depth best supported by its surface_k nearest samples, and it interpolates 1/z over the
-// vertices on that surface. Pixels outside the triangulation get the
+// vertices on that surface, except on the ground, which continues along the plane up to the object
+// that ends it (groundAcrossEdge). Pixels outside the triangulation get the
 // sparse mode's prior (nearest sample capped by the ground) and its distance-inflated variance.
 namespace {
 
@@ -331,12 +332,46 @@ int nearestVertex(const AngularTriangle& t, float az, float el) {
 
 struct DenseVertexInfo {
   bool ground[3];
+  /// A ground vertex's depth over the plane's depth along its ray (near 1: how far the local road
+  /// lies off the estimated plane).
+  float plane_ratio[3];
   /// same[a][b]: vertices a and b lie on one surface (both ground returns, or depths within
   /// dense_edge_ratio); per triangle, so that the rasteriser does not re-derive it per pixel.
   bool same[3][3];
   bool edge;  ///< some pair of vertices lies on different surfaces
   float longest_edge_deg;
 };
+
+/// A pixel of an edge triangle that the vote put on the ground. The road goes on between two scan
+/// lines until something stands on it, so the pixel's depth is the plane's along its ray, scaled
+/// by the ground vertices' ratio to the plane (how far the local road lies off the estimated
+/// plane), and capped where the road ends: at the nearest non-ground vertex's depth (the object the
+/// road runs up to) or, where that object is nearer than the road's own vertices (the road seen
+/// past it), at their interpolation, the depth the pixel had without this step. Interpolating the
+/// ground vertices alone holds one scan line's depth across the gap to the next: with scan lines
+/// degrees apart (a 32-beam LiDAR, every 4th of its rings) that is metres short of the road.
+/// Above the horizon (no ground along the ray) `interpolated` stands.
+double groundAcrossEdge(const AngularTriangle& t, const DenseVertexInfo& v, const double l[3],
+                        std::size_t pixel, int cols, const PixelAngleGrid& angles,
+                        const GroundPlane& plane, double interpolated) {
+  double weight = 0.0, ratio = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    if (!v.ground[i]) continue;
+    weight += l[i];
+    ratio += l[i] * v.plane_ratio[i];
+  }
+  ratio = weight > 0.0 ? ratio / weight : 1.0;
+  const int r = static_cast<int>(pixel / static_cast<std::size_t>(cols));
+  const int c = static_cast<int>(pixel % static_cast<std::size_t>(cols));
+  const Eigen::Vector2d ray = angles.normalisedRay(r, c);
+  const double along = ratio * plane.depthAlong(ray.x(), ray.y());
+  if (!std::isfinite(along)) return interpolated;
+  double nearest_object = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    if (!v.ground[i] && (nearest_object == 0.0 || t.z[i] < nearest_object)) nearest_object = t.z[i];
+  }
+  return std::min(along, std::max(nearest_object, interpolated));
+}
 
 /// What the gap pass needs of the ground plane and the prior's parameters, as plain values.
 struct GapRowConstants {
@@ -624,7 +659,9 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
         DenseVertexInfo& v = info[i];
         for (int j = 0; j < 3; ++j) {
           const Eigen::Vector2d ray = normalisedFromAngles(t.az[j], t.el[j]);
-          v.ground[j] = t.z[j] >= (1.0 - kGroundMargin) * plane.depthAlong(ray.x(), ray.y());
+          const double plane_depth = plane.depthAlong(ray.x(), ray.y());
+          v.ground[j] = t.z[j] >= (1.0 - kGroundMargin) * plane_depth;
+          v.plane_ratio[j] = v.ground[j] ? static_cast<float>(t.z[j] / plane_depth) : 0.0f;
           v.longest_edge_deg =
               std::max(j == 0 ? 0.0f : v.longest_edge_deg,
                        static_cast<float>(
@@ -713,7 +750,9 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
           weight = 1.0;
           inverse = 1.0 / t.z[j];
         }
-        const double mean = weight / inverse;
+        double mean = weight / inverse;
+        if (v.edge && v.ground[j])
+          mean = groundAcrossEdge(t, v, l, pixel, cols, angles, plane, mean);
         // The surface's own uncertainty, plus the spread of all three depths: ~0 inside a surface,
         // the step height across an occlusion edge, where the pixel may belong to the other side.
         double spread = 0.0;

@@ -218,6 +218,33 @@ TEST(GroundGpDense, OcclusionEdgesAreNotBlended) {
   EXPECT_GT(map.variance[std::size_t(50) * 160 + 100], 1.0f);
 }
 
+TEST(GroundGpDense, TheRoadBetweenScanLinesFollowsThePlaneToTheObjectItMeets) {
+  // Scan lines 12 rows (~7 deg) apart over a road 1.3 m below a level camera that ends at a wall
+  // 12 m ahead (its foot at row ~71). The line at row 78 is on the road (7.2 m), the one at row 66
+  // on the wall: their triangles span an occlusion edge. Between them the road goes on to the
+  // wall's foot: holding the lower line's 7.2 m there would be up to 30 % short.
+  const double wall = 12.0;
+  const auto road = [](int v) { return 1.3 / ((v - 60) / 100.0); };
+  const auto scene = [&](int, int v) { return v > 60 ? std::min(wall, road(v)) : wall; };
+  std::vector<Eigen::Vector3d> points;
+  for (int v = 6; v < 120; v += 12) {
+    for (int u = 0; u < 160; u += 2)
+      points.push_back(pointOnPixelRay(smallCamera(), u, v, scene(u, v)));
+  }
+  const mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  const auto map = completeSmallImage(points, params);
+  for (int u = 20; u < 140; u += 11) {
+    // Nearer the road's line than the wall's: the vote puts these pixels on the road.
+    for (int v = 73; v < 78; ++v) {
+      EXPECT_NEAR(map.depth[std::size_t(v) * 160 + u], road(v), 0.02 * road(v)) << u << "," << v;
+    }
+    // Never past the wall that ends the road.
+    for (int v = 66; v <= 78; ++v) {
+      EXPECT_LE(map.depth[std::size_t(v) * 160 + u], wall * 1.001) << u << "," << v;
+    }
+  }
+}
+
 TEST(GroundGpDense, EdgeVotesDependOnlyOnTheFrame) {
   // The occlusion-edge vote of a pixel may be reused for the next pixels of its triangle row; the
   // reuse must not reach into another frame (a triangle at the same address in the next call) or
