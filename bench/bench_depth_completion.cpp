@@ -17,6 +17,7 @@
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/depth_shift.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/hidden_returns.hpp"
 #include "multimodal_nvs/core/depth/models/image_guided_model.hpp"
 #include "multimodal_nvs/core/depth/models/ipbasic_model.hpp"
 #include "multimodal_nvs/core/depth/models/local_gp_model.hpp"
@@ -35,6 +36,7 @@ namespace {
 struct Scan {
   std::vector<Eigen::Vector3d> points;
   mm::PinholeIntrinsics intrinsics;
+  Eigen::Vector3d origin;  // the sensor's position in the camera frame
 };
 
 std::string dataDir() {
@@ -55,6 +57,7 @@ const Scan* loadScan(int frame, const std::string& sensor, const std::string& da
   scan.points =
       mm::transformToCamera(mm::io::readPoints(f.points(sensor), mm::io::parsePointFormat(sensor)),
                             calib.sensorToCamera());
+  scan.origin = calib.sensorToCamera().col(3);
   return &(cache[key] = scan);
 }
 
@@ -80,6 +83,7 @@ void runCompletion(benchmark::State& state, int frame, const std::string& sensor
   }
   mm::PinholeIntrinsics camera = scan->intrinsics;
   camera.distortion = lens;
+  mm::setScanOrigin(scan->origin, params.ground);  // as the tools and the node do
   cv::Mat image;  // only image_guided and ground_gp's sky read the camera image
   if (params.readsImage()) {
     image =
@@ -191,11 +195,21 @@ void BM_Lidar00549_GroundGpDense_Retain80(benchmark::State& state) {
   runCompletion(state, 549, "lidar", p);
 }
 
-// config/lidar.yaml's model: the dense mode with the image's sky (ground.image_sky), full
-// resolution and stride 2 (the config's). Argument: output stride.
+// The same without the returns the camera cannot see (ground.drop_hidden_returns): what the
+// filter costs. Argument: worker threads.
+void BM_Lidar00549_GroundGpDenseHidden_Retain80(benchmark::State& state) {
+  mm::DepthCompletionParams p = lidarDenseParams();
+  p.ground.drop_hidden_returns = true;
+  p.threads = static_cast<int>(state.range(0));
+  runCompletion(state, 549, "lidar", p);
+}
+
+// config/lidar.yaml's model: the dense mode with the image's sky (ground.image_sky) and without
+// hidden returns, full resolution and stride 2 (the config's). Argument: output stride.
 void BM_Lidar00549_GroundGpDenseImageSky_Retain80(benchmark::State& state) {
   mm::DepthCompletionParams p = lidarDenseParams();
   p.ground.image_sky = true;
+  p.ground.drop_hidden_returns = true;
   runCompletion(state, 549, "lidar", p, {}, "vod",
                 mm::StrideGrid{kFullResolution.image, static_cast<int>(state.range(0))});
 }
@@ -441,6 +455,11 @@ BENCHMARK(BM_Lidar00549_TiledApprox)
     ->Unit(benchmark::kMillisecond)
     ->MinTime(2.0);
 BENCHMARK(BM_Lidar00549_GroundGpDense_Retain80)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->MinTime(2.0);
+BENCHMARK(BM_Lidar00549_GroundGpDenseHidden_Retain80)
     ->Arg(0)
     ->Arg(1)
     ->Unit(benchmark::kMillisecond)

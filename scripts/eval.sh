@@ -156,9 +156,11 @@ try_json() {
 model_args() {
   [[ "$1" == local_gp_mle && "$2" == lidar ]] && echo "${LIDAR_GP_ARGS[@]}"
   [[ "$1" == kernel && "$2" == lidar && "${3:-}" == all ]] && echo "${LIDAR_KERNEL_ARGS[@]}"
-  # The novel views from all LiDAR returns run ground_gp as config/lidar.yaml does (its sky).
+  # The novel views from all LiDAR returns run ground_gp as config/lidar.yaml does (its sky, and
+  # without the returns the camera cannot see).
   [[ "$1" == ground_gp && "$2" == lidar && "${3:-}" == all ]] &&
-    echo "--ground-image-sky $("$REPO/scripts/config_value.sh" lidar ground_image_sky)"
+    echo "--ground-image-sky $("$REPO/scripts/config_value.sh" lidar ground_image_sky)" \
+      "--drop-hidden-returns $("$REPO/scripts/config_value.sh" lidar ground_drop_hidden_returns)"
   echo "${EVAL_MODEL_ARGS:-}"
 }
 

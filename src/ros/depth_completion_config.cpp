@@ -43,6 +43,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.ground.dense_edge_ratio = config.ground_dense_edge_ratio;
   p.ground.dense_relative_sigma = config.ground_dense_relative_sigma;
   p.ground.image_sky = config.ground_image_sky;
+  p.ground.drop_hidden_returns = config.ground_drop_hidden_returns;
   ImageGuidedParams& g = p.guided;
   g.lambda = config.guided_lambda;
   g.sigma_color = config.guided_sigma_color;
@@ -102,6 +103,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.ground_dense_edge_ratio = p.ground.dense_edge_ratio;
   config.ground_dense_relative_sigma = p.ground.dense_relative_sigma;
   config.ground_image_sky = p.ground.image_sky;
+  config.ground_drop_hidden_returns = p.ground.drop_hidden_returns;
   const ImageGuidedParams& g = p.guided;
   config.guided_lambda = g.lambda;
   config.guided_sigma_color = g.sigma_color;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/hidden_returns.hpp"
 
 namespace multimodal_nvs {
 namespace ros_conversions {
@@ -43,8 +44,11 @@ ConversionStatus completeDepthFromCloud(const sensor_msgs::PointCloud2& cloud,
   if (!status.ok()) return status;
   reading.step = step;  // only for a cloud that goes on to the model
   const std::size_t points = workspace.points().size();  // the workspace may release them
+  // The scan's origin in the camera frame, for the dense mode's hidden-return filter.
+  DepthCompletionParams scan_params = params;
+  setScanOrigin(sensor_to_camera.translation(), scan_params.ground);
   try {
-    workspace.complete(intrinsics, grid, params, image);
+    workspace.complete(intrinsics, grid, scan_params, image);
   } catch (const std::bad_alloc&) {
     // One allocation too large for this host (the model's buffers grow with points and pixels):
     // the set is lost, the node is not. The thread pool rethrows its workers' exceptions here.

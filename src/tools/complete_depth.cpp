@@ -18,6 +18,7 @@
 #include "multimodal_nvs/core/common/retain_freed_memory.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/depth/hidden_returns.hpp"
 #include "multimodal_nvs/core/io/camera_info_yaml.hpp"
 #include "multimodal_nvs/core/io/kitti_calib.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
@@ -238,7 +239,9 @@ LoadedFrame loadFrame(const Options& o, const FrameJob& job) {
   const mm::io::KittiCalib calib = mm::io::readKittiCalib(job.calib);
   f.intrinsics = mm::io::frameIntrinsics(calib, job.camera_info, f.grid.image);
   const auto points_sensor = mm::io::readPoints(job.points, mm::io::parsePointFormat(job.format));
-  f.points_camera = mm::transformToCamera(points_sensor, calib.sensorToCamera());
+  const mm::SensorToCamera sensor_to_camera = calib.sensorToCamera();
+  f.points_camera = mm::transformToCamera(points_sensor, sensor_to_camera);
+  mm::setScanOrigin(sensor_to_camera.col(3), f.params.ground);
   return f;
 }
 

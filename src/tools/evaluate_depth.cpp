@@ -23,6 +23,7 @@
 #include "multimodal_nvs/core/common/retain_freed_memory.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/depth/hidden_returns.hpp"
 #include "multimodal_nvs/core/depth/retention.hpp"
 #include "multimodal_nvs/core/eval/depth_metrics.hpp"
 #include "multimodal_nvs/core/io/camera_info_yaml.hpp"
@@ -394,6 +395,7 @@ int run(int argc, char** argv) {
       mm::DepthCompletionParams frame_params = params;
       mm::cli::applyGroundPose(o.depth, frame.pose(),
                                frame_params);  // ground_gp: this frame's pose
+      mm::setScanOrigin(calib.sensorToCamera().col(3), frame_params.ground);
       for (int i = 0; i < repeat; ++i) {
         completer.complete(points_camera, intrinsics, grid, frame_params, map, image);
         times.push_back(map.stats.compute_ms);

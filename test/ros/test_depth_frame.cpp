@@ -4,6 +4,7 @@
 #include <tf2_ros/buffer.h>
 
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/hidden_returns.hpp"
 #include "multimodal_nvs/ros/depth_frame.hpp"
 #include "synthetic_scene.hpp"
 
@@ -81,6 +82,59 @@ TEST_F(DepthFrame, CompletesTheSceneAsTheCoreDoes) {
   EXPECT_EQ(got.variance, want.variance);
   EXPECT_EQ(got.valid, want.valid);
   EXPECT_GT(got.stats.kept, 0);
+}
+
+TEST_F(DepthFrame, TheCloudsTfOriginIsTheScannersPositionForTheHiddenReturnFilter) {
+  // The scene's sensor sits 0.3 m below and 0.5 m behind the camera, so it sees under the box's
+  // lower edge onto the wall: wall returns at camera rows 165 and 166 (the box spans rows
+  // 100-170, its own returns lie on rows 160 and 168) are the sensor's, not the camera's.
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3d& p : scene::sensorPoints())
+    points.push_back(scene::sensorToCamera() * p);
+  for (int v : {165, 166}) {
+    for (int u = 112; u <= 208; u += 4) {
+      const double z = scene::kWallDepth;
+      points.emplace_back((u - scene::kCx) / scene::kFx * z, (v - scene::kCy) / scene::kFy * z, z);
+    }
+  }
+  std::vector<float> values;
+  const Eigen::Isometry3d camera_to_sensor = scene::sensorToCamera().inverse();
+  for (const Eigen::Vector3d& p : points) {
+    const Eigen::Vector3d q = camera_to_sensor * p;
+    values.insert(values.end(), {float(q.x()), float(q.y()), float(q.z()), 1.f});
+  }
+  set_.cloud = rc::float32Cloud({"x", "y", "z", "intensity"}, values, set_.cloud.header);
+  for (Eigen::Vector3d& p : points)  // what the node reads: the float32 cloud, transformed
+    p = scene::sensorToCamera() * (camera_to_sensor * p).cast<float>().cast<double>();
+
+  settings_.params.model = mm::DepthModel::kGroundGp;
+  settings_.params.ground.input = mm::GroundPriorParams::Input::kDense;
+  settings_.params.ground.drop_hidden_returns = true;
+  settings_.stride = 1;
+  const rc::DepthFrameResult result = complete();
+  ASSERT_TRUE(result.completed()) << result.status.reason << result.error;
+  const auto core = [&](bool with_origin) {
+    mm::DepthCompletionParams params = settings_.params;
+    if (with_origin) mm::setScanOrigin(scene::sensorToCamera().translation(), params.ground);
+    return mm::DepthCompleter(params.threads)
+        .complete(points, result.intrinsics, {{scene::kHeight, scene::kWidth}, 1}, params);
+  };
+  const mm::DepthMap want = core(true);
+  EXPECT_EQ(workspace_.depth().depth, want.depth);
+  EXPECT_EQ(workspace_.depth().variance, want.variance);
+  // Without the origin the wall returns stay and the box's pixels between rows 160 and 168 take
+  // the wall's depth; with it they keep the box's.
+  const mm::DepthMap unfiltered = core(false);
+  int wall_with = 0, wall_without = 0;
+  for (int v = 161; v < 168; ++v) {
+    for (int u = 120; u < 200; ++u) {
+      const std::size_t p = std::size_t(v) * scene::kWidth + u;
+      wall_with += want.depth[p] > 0.5 * (scene::kBoxDepth + scene::kWallDepth);
+      wall_without += unfiltered.depth[p] > 0.5 * (scene::kBoxDepth + scene::kWallDepth);
+    }
+  }
+  EXPECT_EQ(wall_with, 0);
+  EXPECT_GT(wall_without, 100);
 }
 
 TEST_F(DepthFrame, ACloudOverTheCapIsReadEveryKthPoint) {

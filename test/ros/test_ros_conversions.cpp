@@ -690,6 +690,7 @@ TEST(ConfigMapping, DefaultsAreTheCoreDefaultsExceptRetention) {
   EXPECT_EQ(settings.params.guided.ground_gp_prior, core.guided.ground_gp_prior);
   EXPECT_EQ(settings.params.guided.lambda, core.guided.lambda);
   EXPECT_EQ(settings.params.guided.sky, core.guided.sky);
+  EXPECT_EQ(settings.params.ground.drop_hidden_returns, core.ground.drop_hidden_returns);
   EXPECT_EQ(settings.params.retain_percent, 80.0);  // the paper's choice, not the reference's 100
 }
 
@@ -700,8 +701,10 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   config.var_threshold = 4.0;
   config.stride = 3;
   config.guided_lateral_prior = false;
-  config.guided_ground_gp_prior = false;  // the default is true
+  config.guided_ground_gp_prior = false;     // the default is true
+  config.ground_drop_hidden_returns = true;  // the default is false
   const mm::DepthCompletionSettings settings = mm::settingsFromConfig(config);
+  EXPECT_TRUE(settings.params.ground.drop_hidden_returns);
   EXPECT_FALSE(settings.params.guided.lateral_prior);
   EXPECT_FALSE(settings.params.guided.ground_gp_prior);
   EXPECT_EQ(settings.params.model, mm::DepthModel::kKernel);
@@ -714,6 +717,7 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   EXPECT_EQ(back.stride, 3);
   EXPECT_FALSE(back.guided_lateral_prior);
   EXPECT_FALSE(back.guided_ground_gp_prior);
+  EXPECT_TRUE(back.ground_drop_hidden_returns);
   EXPECT_EQ(mm::settingsFromConfig(back).params.shift.value, 12.5);
 
   config.model = "no_such_model";

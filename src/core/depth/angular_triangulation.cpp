@@ -3,6 +3,8 @@
 // rasteriser uses the pixel's own float32 angles, so interpolation is exact in the angular domain.
 #include "multimodal_nvs/core/depth/angular_triangulation.hpp"
 
+#include "multimodal_nvs/core/depth/hidden_returns.hpp"
+
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
@@ -15,6 +17,7 @@
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/hidden_returns.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 
 namespace multimodal_nvs {
@@ -251,19 +254,47 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
 }
 
 BackgroundTriangulation::BackgroundTriangulation(const std::vector<AngularSample>& samples,
-                                                 const PixelAngleGrid& angles, bool start)
-    : samples_(samples), angles_(angles) {
+                                                 const PixelAngleGrid& angles, bool start,
+                                                 bool visible_only, double depth_ratio,
+                                                 const Eigen::Vector3d& scan_origin)
+    : samples_(samples),
+      angles_(angles),
+      visible_only_(visible_only),
+      depth_ratio_(depth_ratio),
+      scan_origin_(scan_origin),
+      visible_future_(visible_ready_.get_future().share()) {
   if (!start) return;
   try {
-    triangles_ =
-        std::async(std::launch::async, [this] { return triangulateSamples(samples_, angles_); });
+    triangles_ = std::async(std::launch::async, [this] {
+      if (visible_only_) {
+        try {
+          visible_ = dropReturnsHiddenFromCamera(samples_, angles_, depth_ratio_, scan_origin_);
+        } catch (...) {
+          visible_ready_.set_exception(std::current_exception());
+          throw;
+        }
+      }
+      visible_ready_.set_value();
+      return triangulateSamples(visible_only_ ? visible_ : samples_, angles_);
+    });
   } catch (const std::system_error&) {
-    // No thread to be had: get() triangulates in the caller's thread.
+    // No thread to be had: samples() and get() work in the caller's thread.
   }
 }
 
+const std::vector<AngularSample>& BackgroundTriangulation::samples() {
+  if (!visible_only_) return samples_;
+  if (started()) {
+    visible_future_.get();  // rethrows the filter's exception
+  } else if (!filtered_) {
+    visible_ = dropReturnsHiddenFromCamera(samples_, angles_, depth_ratio_, scan_origin_);
+    filtered_ = true;
+  }
+  return visible_;
+}
+
 std::vector<AngularTriangle> BackgroundTriangulation::get() {
-  return started() ? triangles_.get() : triangulateSamples(samples_, angles_);
+  return started() ? triangles_.get() : triangulateSamples(samples(), angles_);
 }
 
 }  // namespace multimodal_nvs

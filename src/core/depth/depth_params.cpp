@@ -117,6 +117,11 @@ void DepthCompletionParams::validate() const {
       fail("ground surface_k >= 1 and 1 <= surface_rank <= surface_k");
     }
     if (ground.surface_step_px < 1) fail("ground surface_step_px must be >= 1");
+    if (ground.scan_origin_known &&
+        !(std::isfinite(ground.scan_origin_x) && std::isfinite(ground.scan_origin_y) &&
+          std::isfinite(ground.scan_origin_z))) {
+      fail("ground scan_origin must be finite");
+    }
     if (!(ground.dense_edge_ratio > 0.0) || !(ground.dense_relative_sigma >= 0.0)) {
       fail("ground dense_edge_ratio must be > 0 and dense_relative_sigma >= 0");
     }

@@ -106,6 +106,10 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "dense input: prior std / depth on a surface")
       ->check(positive())
       ->group(kGround);
+  app.add_option("--drop-hidden-returns", g.drop_hidden_returns,
+                 "dense input: 1 leave out the returns the camera cannot see (the scanner, at the "
+                 "calibration's sensor origin, saw past a near object), 0 keep every return")
+      ->group(kGround);
   app.add_option("--ground-image-sky", g.image_sky,
                  "1 the image's sky (the --guided-sky-* test) at the far clamp, 0 none")
       ->group(kGround);

@@ -1,6 +1,7 @@
 #pragma once
 // Delaunay triangulation of angular samples and rasterisation of its triangles onto the stride
 // grid: shared by the `linear` baseline and the dense-input mode of `ground_gp`.
+#include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>
 #include <future>
@@ -31,19 +32,32 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
 /// triangulateSamples() on a thread of its own, started as early as the samples exist, so that the
 /// serial triangulation (CGAL) overlaps whatever the caller does before it needs the triangles.
 /// Without a thread to be had (a process at its limit), or when not asked to start early, get()
-/// triangulates in the calling thread: the same triangles either way.
+/// triangulates in the calling thread: the same triangles either way. With `visible_only`, what is
+/// triangulated are the samples the camera can see (dropReturnsHiddenFromCamera with `depth_ratio`
+/// and the scan's origin in the camera frame), filtered on the same thread first.
 class BackgroundTriangulation {
  public:
   BackgroundTriangulation(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                          bool start);
+                          bool start, bool visible_only = false, double depth_ratio = 1.1,
+                          const Eigen::Vector3d& scan_origin = Eigen::Vector3d::Zero());
   /// Whether the triangulation runs on its own thread.
   bool started() const { return triangles_.valid(); }
+  /// The samples triangulated: all, or the visible ones (waits for the filter, not for the
+  /// triangles). Valid as long as this object.
+  const std::vector<AngularSample>& samples();
   /// The triangles (waits for the thread). Call once.
   std::vector<AngularTriangle> get();
 
  private:
   const std::vector<AngularSample>& samples_;
   const PixelAngleGrid& angles_;
+  const bool visible_only_;
+  const double depth_ratio_;
+  const Eigen::Vector3d scan_origin_;
+  std::vector<AngularSample> visible_;
+  bool filtered_ = false;  // visible_ holds the filter's result (calling thread only)
+  std::promise<void> visible_ready_;
+  std::shared_future<void> visible_future_;
   std::future<std::vector<AngularTriangle>> triangles_;
 };
 

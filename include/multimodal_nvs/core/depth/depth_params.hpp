@@ -55,6 +55,16 @@ struct GroundPriorParams {
   /// fraction (or both are ground returns); otherwise the edge between them is an occlusion edge.
   double dense_edge_ratio = 0.1;
   double dense_relative_sigma = 0.03;  ///< dense mode: prior std / depth inside a surface
+  /// Dense mode: leave out the returns the camera cannot see (a scanner above or beside the camera
+  /// sees past near objects; hidden_returns.hpp). Needs the scan's origin. Off by default: depth
+  /// scored against projected LiDAR, which keeps those returns, loses by it (README); on in
+  /// config/lidar.yaml, whose depth and conditioning frames are the camera's.
+  bool drop_hidden_returns = false;
+  /// Where the scan was taken, in the camera frame (metres): the sensor-to-camera transform's
+  /// translation (tf, or the calibration's Tr_velo_to_cam). Set per scan by the node and the
+  /// tools; unknown (a cloud already in the camera frame) means no return is dropped.
+  bool scan_origin_known = false;
+  double scan_origin_x = 0.0, scan_origin_y = 0.0, scan_origin_z = 0.0;
   /// Where camera_height and up come from: the parameters, or a pose (a pose file, tf) that set
   /// them (applyCameraPose). Reported with the plane actually used (ground_plane_estimate.hpp).
   enum class PlaneSource { kParameters, kPose, kReturns };

@@ -618,10 +618,10 @@ bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAn
   return meanSampleSpacingDeg(samples, angles) <= 0.5 * params.radius_deg;
 }
 
-void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                          const DepthCompletionParams& params, const GroundPlane& plane,
-                          double median_depth, ThreadPool& pool, PixelPredictions& out,
-                          ModelScratch& scratch, BackgroundTriangulation& triangulation) {
+void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionParams& params,
+                          const GroundPlane& plane, double median_depth, ThreadPool& pool,
+                          PixelPredictions& out, ModelScratch& scratch,
+                          BackgroundTriangulation& triangulation) {
   const GroundPriorParams& g = params.ground;
   const std::size_t n = static_cast<std::size_t>(angles.grid().size());
   // No fill: every pixel is written below, inside a triangle by the rasteriser, else by the gap
@@ -634,6 +634,9 @@ void predictGroundGpDense(const std::vector<AngularSample>& samples, const Pixel
   // it left the second core idle for a fifth of the frame. With a pool of one thread the caller
   // asked for one thread, and everything runs in order.
   const bool overlap = triangulation.started();
+  // The samples the triangulation sees (those the camera can see, when hidden returns are dropped;
+  // the filter runs first on the triangulation's thread), for every stage of this mode.
+  const std::vector<AngularSample>& samples = triangulation.samples();
   // Occlusion edges are decided by the pixel's surface_k nearest samples (any triangle).
   const std::vector<AngularSample> usable = usableSamples(samples);
   const AngularBins bins(usable, kVoteBinDeg);

@@ -75,8 +75,8 @@ int predictGroundGpModel(const std::vector<AngularSample>& samples, const PixelA
   if (choice.dense) {
     // Dense input needs no neighbour sets: the interpolating prior is the prediction.
     ModelScratch local;
-    predictGroundGpDense(samples, angles, params, choice.plane, medianDepth(samples, params, shift),
-                         pool, out, scratch != nullptr ? *scratch : local, triangulation);
+    predictGroundGpDense(angles, params, choice.plane, medianDepth(samples, params, shift), pool,
+                         out, scratch != nullptr ? *scratch : local, triangulation);
     return 0;
   }
   if (groundGpUsesTiles(samples, angles, params)) {
@@ -110,10 +110,14 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
   // mode the fit decides, and a radar scan would not need the triangles. (image_guided never
   // needs them: on dense input it does not run ground_gp, see below.)
   using Input = GroundPriorParams::Input;
-  BackgroundTriangulation triangulation(samples, angles,
-                                        params.model == DepthModel::kGroundGp &&
-                                            params.ground.input == Input::kDense &&
-                                            pool.size() > 1);
+  // In the dense mode it triangulates the returns the camera can see, when the scan's origin is
+  // known (the filter runs on the triangulation's thread, before it).
+  const GroundPriorParams& g = params.ground;
+  BackgroundTriangulation triangulation(
+      samples, angles,
+      params.model == DepthModel::kGroundGp && g.input == Input::kDense && pool.size() > 1,
+      params.model == DepthModel::kGroundGp && g.drop_hidden_returns && g.scan_origin_known,
+      1.0 + g.dense_edge_ratio, Eigen::Vector3d(g.scan_origin_x, g.scan_origin_y, g.scan_origin_z));
   // Both models that stand on the ground take its plane (and ground_gp its mode) from the returns
   // when they allow it, else from the pose or the parameters.
   GroundChoice choice;

@@ -22,12 +22,13 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
 
 /// `ground_gp` on dense input (ground_gp_model.cpp): the prior is the edge-aware interpolation of
 /// inverse depth on the Delaunay triangulation of the samples; no residual GP (the prior already
-/// passes through every sample, so the GP's posterior mean would equal it). `triangulation` is
-/// the samples' (the caller may have started it early). Work buffers in `scratch`.
-void predictGroundGpDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                          const DepthCompletionParams& params, const GroundPlane& plane,
-                          double median_depth, ThreadPool& pool, PixelPredictions& out,
-                          ModelScratch& scratch, BackgroundTriangulation& triangulation);
+/// passes through every sample, so the GP's posterior mean would equal it). The samples are those
+/// of `triangulation` (the caller may have started it early; with hidden returns dropped, the
+/// visible ones). Work buffers in `scratch`.
+void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionParams& params,
+                          const GroundPlane& plane, double median_depth, ThreadPool& pool,
+                          PixelPredictions& out, ModelScratch& scratch,
+                          BackgroundTriangulation& triangulation);
 
 /// Mean angular spacing of the samples in the camera's view, sqrt(view area / samples in view), in
 /// degrees; infinity when none is in view.
