@@ -183,6 +183,7 @@ struct FrameResult {
   std::string ground_source, ground_mode;  // ground_gp: its plane's source and its mode
   double ground_inlier_fraction = 0.0;     // of the ground-plane fit (what chose the mode)
   double ground_scan_line_share = -1.0;    // returns along scan lines (-1: not needed)
+  long long ground_hidden_returns = -1;    // returns left out as hidden (-1: not filtered)
   std::vector<RetentionResult> retention;
 };
 
@@ -406,6 +407,7 @@ int run(int argc, char** argv) {
       res.ground_mode = map.stats.ground_mode;
       res.ground_inlier_fraction = map.stats.ground_inlier_fraction;
       res.ground_scan_line_share = map.stats.ground_scan_line_share;
+      res.ground_hidden_returns = map.stats.ground_hidden_returns;
       depth.swap(map.depth);
       variance.swap(map.variance);
       predicted.swap(map.valid);
@@ -491,6 +493,7 @@ int run(int argc, char** argv) {
       per_frame.back()["ground_mode"] = f.ground_mode;
       per_frame.back()["ground_inlier_fraction"] = mm::json::number(f.ground_inlier_fraction);
       per_frame.back()["ground_scan_line_share"] = mm::json::number(f.ground_scan_line_share);
+      per_frame.back()["ground_hidden_returns"] = f.ground_hidden_returns;
     }
     per_frame.back()["retention"] = retention;
   }

@@ -268,7 +268,8 @@ BackgroundTriangulation::BackgroundTriangulation(const std::vector<AngularSample
     triangles_ = std::async(std::launch::async, [this] {
       if (visible_only_) {
         try {
-          visible_ = dropReturnsHiddenFromCamera(samples_, angles_, depth_ratio_, scan_origin_);
+          visible_ =
+              dropReturnsHiddenFromCamera(samples_, angles_, depth_ratio_, scan_origin_, &hidden_);
         } catch (...) {
           visible_ready_.set_exception(std::current_exception());
           throw;
@@ -287,7 +288,7 @@ const std::vector<AngularSample>& BackgroundTriangulation::samples() {
   if (started()) {
     visible_future_.get();  // rethrows the filter's exception
   } else if (!filtered_) {
-    visible_ = dropReturnsHiddenFromCamera(samples_, angles_, depth_ratio_, scan_origin_);
+    visible_ = dropReturnsHiddenFromCamera(samples_, angles_, depth_ratio_, scan_origin_, &hidden_);
     filtered_ = true;
   }
   return visible_;

@@ -123,6 +123,7 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
     stats.ground_mode = ground.dense ? "dense" : ground.tiled_residual ? "sparse_tiled" : "sparse";
     stats.ground_inlier_fraction = ground.inlier_fraction;
     stats.ground_scan_line_share = ground.scan_line_share;
+    stats.ground_hidden_returns = ground.hidden_returns;
   }
 
   // Valid as the reference defines it, then retention among the valid pixels. Full-image passes

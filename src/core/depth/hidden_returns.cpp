@@ -46,7 +46,9 @@ double median(std::vector<double> v) {
 std::vector<AngularSample> dropReturnsHiddenFromCamera(const std::vector<AngularSample>& samples,
                                                        const PixelAngleGrid& angles,
                                                        double depth_ratio,
-                                                       const Eigen::Vector3d& scan_origin) {
+                                                       const Eigen::Vector3d& scan_origin,
+                                                       std::size_t* dropped_count) {
+  if (dropped_count != nullptr) *dropped_count = 0;
   std::vector<AngularSample> usable = usableSamples(samples);
   // The samples near the image (the triangulation's window).
   const AngularBox image = angles.extent();
@@ -205,6 +207,7 @@ std::vector<AngularSample> dropReturnsHiddenFromCamera(const std::vector<Angular
       }
     }
   }
+  if (dropped_count != nullptr) *dropped_count = dropped;
   if (dropped == 0) return usable;
   std::vector<AngularSample> visible;
   visible.reserve(usable.size() - dropped);

@@ -88,13 +88,16 @@ TEST(HiddenReturns, WallReturnsSeenPastTheTopOfABoxAreDropped) {
   const std::vector<Eigen::Vector3d> points = scan(box, kScannerAbove, 0.4);
   const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
   const auto samples = mm::toAngularSamples(points);
-  const auto visible = mm::dropReturnsHiddenFromCamera(samples, angles, 1.1, kScannerAbove);
+  std::size_t reported = 0;
+  const auto visible =
+      mm::dropReturnsHiddenFromCamera(samples, angles, 1.1, kScannerAbove, &reported);
   const int hidden = trulyHidden(box, points);
   ASSERT_GT(hidden, 100);  // the scene does what it is meant to
   int dropped_visible = 0, kept_hidden = 0;
   for (const mm::AngularSample& s : visible)
     kept_hidden += hiddenSample(box, s);
   const int dropped = static_cast<int>(samples.size() - visible.size());
+  EXPECT_EQ(reported, std::size_t(dropped));
   // Every dropped return is a hidden one (none the camera sees), and most hidden ones go: those
   // left lie above the box's highest scan line in the image, with no box return above them.
   dropped_visible = dropped - (hidden - kept_hidden);
@@ -161,6 +164,12 @@ TEST(HiddenReturns, TheBoxKeepsItsDepthInTheDenseModel) {
     params.ground.drop_hidden_returns = drop;
     mm::DepthCompleter completer(2);
     const mm::DepthMap map = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+    // The stats say how many returns were left out (-1: the filter did not run).
+    if (drop) {
+      EXPECT_GT(map.stats.ground_hidden_returns, 100);
+    } else {
+      EXPECT_EQ(map.stats.ground_hidden_returns, -1);
+    }
     // The box's pixels (rows 58-90, columns 40-120), away from its outline, that got the wall's
     // depth.
     int wrong = 0;

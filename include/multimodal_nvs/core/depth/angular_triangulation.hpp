@@ -47,6 +47,8 @@ class BackgroundTriangulation {
   const std::vector<AngularSample>& samples();
   /// The triangles (waits for the thread). Call once.
   std::vector<AngularTriangle> get();
+  /// How many samples the filter left out (after samples()); -1 without the filter.
+  long long hiddenCount() const { return visible_only_ ? static_cast<long long>(hidden_) : -1; }
 
  private:
   const std::vector<AngularSample>& samples_;
@@ -55,6 +57,7 @@ class BackgroundTriangulation {
   const double depth_ratio_;
   const Eigen::Vector3d scan_origin_;
   std::vector<AngularSample> visible_;
+  std::size_t hidden_ = 0;
   bool filtered_ = false;  // visible_ holds the filter's result (calling thread only)
   std::promise<void> visible_ready_;
   std::shared_future<void> visible_future_;

@@ -31,6 +31,8 @@ struct DepthMapStats {
   std::string ground_source, ground_mode;
   double ground_inlier_fraction = 0.0;
   double ground_scan_line_share = -1.0;
+  /// ground_gp's dense mode: returns left out as hidden from the camera (-1: not filtered).
+  long long ground_hidden_returns = -1;
 };
 
 /// Dense depth on the stride grid, in the reference's layout: depth in metres (camera z), -1 where

@@ -47,6 +47,9 @@ struct GroundChoice {
   /// Sparse mode: the residual GP ran the tile approximation (large neighbour sets), not the exact
   /// one (set by predictWithModel).
   bool tiled_residual = false;
+  /// Dense mode: returns left out as hidden from the camera (-1: the filter did not run; set by
+  /// predictWithModel).
+  long long hidden_returns = -1;
 };
 
 /// The plane given by the parameters (camera_height and up, which a pose or tf may have set).

@@ -24,10 +24,12 @@ namespace multimodal_nvs {
 /// along-line spacings wide; both spacings are the samples' own (median nearest-neighbour distance,
 /// median gap to the next sample above), so no beam count is assumed. Samples far from the image
 /// pass through; the kept samples keep the input's order.
+/// `dropped` (optional): how many were left out.
 std::vector<AngularSample> dropReturnsHiddenFromCamera(const std::vector<AngularSample>& samples,
                                                        const PixelAngleGrid& angles,
                                                        double depth_ratio,
-                                                       const Eigen::Vector3d& scan_origin);
+                                                       const Eigen::Vector3d& scan_origin,
+                                                       std::size_t* dropped = nullptr);
 
 /// Records where the scan was taken (the sensor-to-camera transform's translation) for the dense
 /// mode's filter (GroundPriorParams::drop_hidden_returns).

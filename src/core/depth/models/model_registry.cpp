@@ -77,6 +77,7 @@ int predictGroundGpModel(const std::vector<AngularSample>& samples, const PixelA
     ModelScratch local;
     predictGroundGpDense(angles, params, choice.plane, medianDepth(samples, params, shift), pool,
                          out, scratch != nullptr ? *scratch : local, triangulation);
+    if (ground) ground->hidden_returns = triangulation.hiddenCount();
     return 0;
   }
   if (groundGpUsesTiles(samples, angles, params)) {
