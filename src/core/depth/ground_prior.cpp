@@ -1,4 +1,5 @@
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/common/per_worker.hpp"
 
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
 
@@ -330,8 +331,9 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
   // k as a count of samples (k < 0: all of them, through the size_t cast).
   const std::size_t kk =
       std::max<std::size_t>(1, std::min<std::size_t>(static_cast<std::size_t>(k), front.size()));
-  std::vector<BruteForceScratch> scratch(pool.size());
-  for (BruteForceScratch& s : scratch) {
+  PerWorker<BruteForceScratch> scratch(pool.size());
+  for (int worker = 0; worker < scratch.size(); ++worker) {
+    BruteForceScratch& s = scratch[worker];
     if (brute_force) {
       s.d2.resize(front.size());
       s.candidates.resize(front.size());
@@ -340,7 +342,7 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
     }
     s.depths.reserve(kk);
   }
-  std::vector<std::vector<std::pair<double, int>>> binned(pool.size());
+  PerWorker<std::vector<std::pair<double, int>>> binned(pool.size());
   pool.parallelFor(static_cast<long long>(node_rows.size()), [&](long long i, int worker) {
     BruteForceScratch& s = scratch[worker];
     std::vector<std::pair<double, int>>& found = binned[worker];

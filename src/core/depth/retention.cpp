@@ -1,4 +1,5 @@
 #include "multimodal_nvs/core/depth/retention.hpp"
+#include "multimodal_nvs/core/common/per_worker.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -336,9 +337,10 @@ long long VarianceSelection::select(long long keep_count, const float* variance,
   long long in_bucket = 0;
   for (const std::uint32_t* h : parts)
     in_bucket += h[first];
-  std::vector<std::vector<Run>> runs(workers_);
-  for (auto& r : runs)  // here rather than growing in the workers (see the constructor)
-    r.reserve(static_cast<std::size_t>(std::min<long long>(in_bucket, kChunk)));
+  PerWorker<std::vector<Run>> runs(static_cast<int>(workers_));
+  for (int w = 0; w < runs.size();
+       ++w)  // here rather than growing in the workers (see the constructor)
+    runs[w].reserve(static_cast<std::size_t>(std::min<long long>(in_bucket, kChunk)));
   std::vector<RunRange> chunk_runs(chunks_);
   forChunks(pool, chunks_, [&](long long c, int worker) {
     const ChunkRange r = chunkRange(c, n_);
@@ -347,7 +349,9 @@ long long VarianceSelection::select(long long keep_count, const float* variance,
     gatherRuns(variance + r.begin, candidate + r.begin, r.end - r.begin, first, out);
     chunk_runs[c].end = out.size();
   });
-  const auto runsOf = [&](long long c) { return runs[chunk_runs[c].worker].data(); };
+  const auto runsOf = [&](long long c) {
+    return runs[static_cast<int>(chunk_runs[c].worker)].data();
+  };
 
   // The next digit among the runs whose key starts with `prefix`.
   const auto nextDigit = [&](std::uint32_t prefix, int shift) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/depth/gp/batched_length_scale_search.hpp"
 #include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
@@ -76,7 +77,7 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
   };
   const std::vector<int> singles =  // sets searched one at a time
       searchInEqualSizeBatches(precision, set_count, set_data, gp, pool, length_scales);
-  std::vector<LocalGp> gps(pool.size(), LocalGp(gp));
+  PerWorker<LocalGp> gps(pool.size(), LocalGp(gp));
   pool.parallelFor(static_cast<long long>(singles.size()), [&](long long k, int worker) {
     const int s = singles[k];
     const int n = sets.setSize(s);
@@ -108,7 +109,7 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
   struct Factors {
     std::vector<double> factor, beta;
   };
-  std::vector<Factors> scratch(pool.size());
+  PerWorker<Factors> scratch(pool.size());
   pool.parallelFor(
       set_count,
       [&](long long set_index, int worker) {
@@ -123,7 +124,7 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
         std::copy(f.beta.begin(), f.beta.end(), betas.begin() + member_offset[s]);
         solved[s] = 1;
       },
-      4);
+      32);
 
   const int rows = angles.grid().rows(), cols = angles.grid().cols();
   const float prior_mean = static_cast<float>(prior.constant);
@@ -138,7 +139,7 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
     std::vector<const NeighbourSegment*> segments;    // the band's solved segments
     std::vector<PixelRun> runs;                       // the segments' pixels, by group
   };
-  std::vector<BandScratch> scratch_bands(pool.size());
+  PerWorker<BandScratch> scratch_bands(pool.size());
   const long long bands = (rows + kBandRows - 1) / kBandRows;
   pool.parallelFor(bands, [&](long long band_index, int worker) {
     const int r0 = static_cast<int>(band_index) * kBandRows;

@@ -1,4 +1,5 @@
 #include "multimodal_nvs/core/depth/models/nearest_model.hpp"
+#include "multimodal_nvs/core/common/per_worker.hpp"
 
 // `nearest` baseline: the depth of the angularly nearest sample — exact, with no radius limit.
 // Samples go into a uniform bin grid in (azimuth, elevation). Pixels are handled in blocks: one
@@ -158,21 +159,21 @@ void forEachNearest(const std::vector<AngularSample>& samples, const PixelAngleG
     bins.nearest(b.caz, b.cel, &b.dc2);
     return b;
   };
-  std::vector<std::vector<int>> scratch(static_cast<std::size_t>(pool.size()));
-  std::vector<std::vector<std::pair<float, int>>> by_distance(scratch.size());
+  PerWorker<std::vector<int>> scratch(pool.size());
+  PerWorker<std::vector<std::pair<float, int>>> by_distance(pool.size());
   auto predictBlock = [&](const Block& b, int worker) {
     const int r0 = b.r0, r1 = b.r1, c0 = b.c0, c1 = b.c1;
     const float caz = b.caz, cel = b.cel;
     // Margin for float rounding of the distances involved.
     const float reach = std::sqrt(b.dc2) + 2.0f * b.h + 1e-3f;
-    std::vector<int>& found = scratch[static_cast<std::size_t>(worker)];
+    std::vector<int>& found = scratch[worker];
     found.clear();
     bins.within(caz, cel, reach, found);
     // Candidates by distance from the block centre: a pixel r from the centre is at least
     // (centre distance - r) from a candidate, so its scan stops once that bound exceeds the
     // best distance so far. Blocks far from the data (the sky above a LiDAR's top ring) have
     // hundreds of candidates in a thin ring around the centre; most pixels stop after a few.
-    std::vector<std::pair<float, int>>& candidates = by_distance[static_cast<std::size_t>(worker)];
+    std::vector<std::pair<float, int>>& candidates = by_distance[worker];
     candidates.clear();
     for (int i : found) {
       const float da = samples[i].azimuth_deg - caz, de = samples[i].elevation_deg - cel;

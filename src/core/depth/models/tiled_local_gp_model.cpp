@@ -1,4 +1,5 @@
 #include "multimodal_nvs/core/depth/models/tiled_local_gp_model.hpp"
+#include "multimodal_nvs/core/common/per_worker.hpp"
 
 // The approximation for dense input (max_neighbors > 0). With LiDAR a 2 deg circle holds ~200
 // samples and neighbour sets almost never repeat, so the exact method needs one O(n^3) length-scale
@@ -111,7 +112,7 @@ struct BlockSet {
 std::vector<double> searchBlockLengthScales(const std::vector<BlockSet>& sets,
                                             const LocalGpParams& gp, PredictionPrecision precision,
                                             ThreadPool& pool,
-                                            std::vector<TileWorkspace>& workspaces) {
+                                            PerWorker<TileWorkspace>& workspaces) {
   std::vector<double> length_scale(sets.size(), 0.0);
   const auto set_data = [&](int b) {
     return SearchSet{static_cast<int>(sets[b].y.size()), sets[b].az.data(), sets[b].el.data(),
@@ -160,7 +161,7 @@ int predictTiledLocalGp(const std::vector<AngularSample>& samples,
   const int blocks_x = (tiles_x + kSearchBlock - 1) / kSearchBlock;
   const int blocks_y = (tiles_y + kSearchBlock - 1) / kSearchBlock;
   const float radius_sq = static_cast<float>(params.radius_deg * params.radius_deg);
-  std::vector<TileWorkspace> workspaces(pool.size(), TileWorkspace(gp));
+  PerWorker<TileWorkspace> workspaces(pool.size(), TileWorkspace(gp));
 
   // 1. One length-scale search per block of tiles, on the samples nearest to the block centre.
   // The blocks' sets are gathered first so that sets of equal size share one batched search, one

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/gp/gp_prediction.hpp"
 #include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
@@ -47,7 +48,7 @@ std::vector<int> searchInEqualSizeBatches(int set_count, const SetAccess& set,
                          static_cast<int>(std::min<std::size_t>(kLanes, equal_size.size() - i))});
     }
   }
-  std::vector<Search> searches(pool.size(), Search(gp));
+  PerWorker<Search> searches(pool.size(), Search(gp));
   pool.parallelFor(static_cast<long long>(batches.size()), [&](long long b, int worker) {
     const Batch& batch = batches[b];
     const float* az[kLanes];
