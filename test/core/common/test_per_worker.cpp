@@ -21,7 +21,9 @@ TEST(PerWorker, EachWorkersObjectStartsOnLinesOfItsOwn) {
   for (int w = 0; w < counters.size(); ++w) {
     EXPECT_EQ(counters[w], 7);
     EXPECT_EQ(addressOf(&counters[w]) % 128, 0u) << "worker " << w;
-    if (w > 0) EXPECT_GE(addressOf(&counters[w]) - addressOf(&counters[w - 1]), 128u);
+    if (w > 0) {
+      EXPECT_GE(addressOf(&counters[w]) - addressOf(&counters[w - 1]), 128u);
+    }
   }
 }
 

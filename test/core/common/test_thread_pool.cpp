@@ -1,10 +1,14 @@
-// ThreadPool: every index runs exactly once, and an exception thrown on any thread reaches the
-// caller instead of terminating the process (the depth nodelet catches std::bad_alloc from there).
+// ThreadPool: every index runs exactly once, loops right after one another and after idle gaps (the
+// workers spinning, then asleep) see every worker's writes, and an exception thrown on any thread
+// reaches the caller instead of terminating the process (the depth nodelet catches std::bad_alloc
+// from there).
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <new>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "multimodal_nvs/core/common/thread_pool.hpp"
@@ -46,4 +50,30 @@ TEST(ThreadPool, AnExceptionOnAnyThreadIsRethrownToTheCallerAndThePoolStaysUsabl
     pool.parallelFor(100, [&](long long i, int) { sum += i; });
     EXPECT_EQ(sum.load(), 4950) << threads << " threads";
   }
+}
+
+TEST(ThreadPool, LoopsRightAfterOneAnotherAndAfterIdleGapsSeeEveryWorkersWrites) {
+  mm::ThreadPool pool(3);
+  std::vector<long long> values;
+  for (int loop = 0; loop < 400; ++loop) {
+    // Every 40th loop after a pause long enough for the workers to stop spinning and sleep; the
+    // others back to back (the workers still spinning) or after a short serial step.
+    if (loop % 40 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    if (loop % 3 == 1) std::this_thread::sleep_for(std::chrono::microseconds(20));
+    const long long count = 1 + (loop % 9) * 37;  // from loops the caller finishes alone upwards
+    values.assign(count, -1);
+    pool.parallelFor(count, [&](long long i, int) { values[i] = loop * 1000 + i; });
+    for (long long i = 0; i < count; ++i)
+      ASSERT_EQ(values[i], loop * 1000 + i) << "loop " << loop << ", index " << i;
+  }
+}
+
+TEST(ThreadPool, ShutsDownWhetherItsWorkersSpinOrSleep) {
+  for (int pause_us : {0, 5000}) {
+    mm::ThreadPool pool(4);
+    std::atomic<long long> sum{0};
+    pool.parallelFor(1000, [&](long long i, int) { sum += i; });
+    std::this_thread::sleep_for(std::chrono::microseconds(pause_us));
+    EXPECT_EQ(sum.load(), 499500);
+  }  // the destructor joins: a hang here is a lost wake-up
 }

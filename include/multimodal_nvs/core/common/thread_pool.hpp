@@ -39,14 +39,20 @@ class ThreadPool {
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable done_;
+  // The current loop, written under mutex_. A worker joins a loop under mutex_ (active_ + 1) only
+  // while it is open; the caller closes it when it runs out of chunks and then waits only for the
+  // workers that joined, never for one that is still waking up.
   const std::function<void(long long, int)>* body_ = nullptr;
   long long count_ = 0;
   long long chunk_ = 1;
-  std::atomic<long long> next_{0};
-  int busy_ = 0;
-  unsigned long long generation_ = 0;
+  bool open_ = false;
   bool stop_ = false;
-  std::exception_ptr error_;  // first exception of the current loop, guarded by mutex_
+  std::atomic<unsigned long long> generation_{0};  // bumped under mutex_; spun on without it
+  std::atomic<int> active_{0};                     // changed under mutex_; spun on without it
+  std::exception_ptr error_;                       // first exception of the current loop
+  // Every chunk's fetch_add writes this line: on a line of its own, so that it does not evict the
+  // fields above from the other core at each chunk.
+  alignas(128) std::atomic<long long> next_{0};
 };
 
 int resolveThreadCount(int requested);
