@@ -15,6 +15,11 @@ DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs:
   message->kept_pixels = unsigned(stats.kept);
   message->compute_ms = static_cast<float>(stats.compute_ms);
   message->latency_ms = static_cast<float>(latency_ms);
+  message->ground_source = stats.ground_source;
+  message->ground_mode = stats.ground_mode;
+  message->ground_inlier_fraction = static_cast<float>(stats.ground_inlier_fraction);
+  message->ground_scan_line_share = static_cast<float>(stats.ground_scan_line_share);
+  message->ground_hidden_returns = static_cast<int>(stats.ground_hidden_returns);
   return message;
 }
 

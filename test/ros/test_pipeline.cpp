@@ -313,6 +313,14 @@ TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
     for (uint8_t m : mask->data)
       kept += m == 255;
     EXPECT_EQ(stats->kept_pixels, kept);
+    // Both configs run a model with a ground plane (radar.yaml image_guided on ground_gp,
+    // lidar.yaml ground_gp): the stats say which mode ran; only the dense mode filters returns.
+    EXPECT_TRUE(stats->ground_mode == "dense" || stats->ground_mode == "sparse" ||
+                stats->ground_mode == "sparse_tiled")
+        << stats->ground_mode;
+    EXPECT_FALSE(stats->ground_source.empty());
+    if (stats->ground_mode != "dense") EXPECT_EQ(stats->ground_hidden_returns, -1);
+    EXPECT_LE(stats->ground_hidden_returns, int(stats->points_in));
   }
   ASSERT_FALSE(o.points.empty());
   for (const auto& cloud : o.points) {

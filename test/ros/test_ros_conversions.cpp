@@ -367,13 +367,18 @@ TEST(FrameImage, CompressedIsDecodedAtOnce) {
   EXPECT_EQ(rc::frameImage(msg, frame).fault, InputFault::kImageDecode);
 }
 
-TEST(StatsMessage, CarriesTheCoreStatsAndTheLatency) {
+TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   mm::DepthMapStats stats;
   stats.points_total = 1234;
   stats.points_in_view = 1000;
   stats.neighbour_sets = 77;
   stats.kept = 4321;
   stats.compute_ms = 12.5;
+  stats.ground_source = "returns";
+  stats.ground_mode = "dense";
+  stats.ground_inlier_fraction = 0.625;
+  stats.ground_scan_line_share = 0.75;
+  stats.ground_hidden_returns = 1202;
   std_msgs::Header header;
   header.stamp = ros::Time(5.0);
   header.frame_id = "camera";
@@ -386,6 +391,19 @@ TEST(StatsMessage, CarriesTheCoreStatsAndTheLatency) {
   EXPECT_EQ(message->kept_pixels, 4321u);
   EXPECT_FLOAT_EQ(message->compute_ms, 12.5f);
   EXPECT_FLOAT_EQ(message->latency_ms, 20.25f);
+  EXPECT_EQ(message->ground_source, "returns");
+  EXPECT_EQ(message->ground_mode, "dense");
+  EXPECT_FLOAT_EQ(message->ground_inlier_fraction, 0.625f);
+  EXPECT_FLOAT_EQ(message->ground_scan_line_share, 0.75f);
+  EXPECT_EQ(message->ground_hidden_returns, 1202);
+}
+
+TEST(StatsMessage, ModelsWithoutAGroundPlaneSayNoneRan) {
+  const auto message = rc::statsMessage(mm::DepthMapStats{}, std_msgs::Header{}, 1.0);
+  EXPECT_EQ(message->ground_source, "");
+  EXPECT_EQ(message->ground_mode, "");
+  EXPECT_FLOAT_EQ(message->ground_scan_line_share, -1.0f);
+  EXPECT_EQ(message->ground_hidden_returns, -1);
 }
 
 sensor_msgs::CameraInfo makeInfo() {
