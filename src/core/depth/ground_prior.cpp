@@ -1,6 +1,6 @@
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
-#include "multimodal_nvs/core/common/per_worker.hpp"
 
+#include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
 
 #include <algorithm>

@@ -1,5 +1,4 @@
 #include "multimodal_nvs/core/depth/retention.hpp"
-#include "multimodal_nvs/core/common/per_worker.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 
 namespace multimodal_nvs {
@@ -338,8 +338,8 @@ long long VarianceSelection::select(long long keep_count, const float* variance,
   for (const std::uint32_t* h : parts)
     in_bucket += h[first];
   PerWorker<std::vector<Run>> runs(static_cast<int>(workers_));
-  for (int w = 0; w < runs.size();
-       ++w)  // here rather than growing in the workers (see the constructor)
+  // Reserved here rather than grown in the workers (see the constructor).
+  for (int w = 0; w < runs.size(); ++w)
     runs[w].reserve(static_cast<std::size_t>(std::min<long long>(in_bucket, kChunk)));
   std::vector<RunRange> chunk_runs(chunks_);
   forChunks(pool, chunks_, [&](long long c, int worker) {

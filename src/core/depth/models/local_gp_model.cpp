@@ -124,7 +124,7 @@ void predictLocalGp(const std::vector<AngularSample>& samples, const std::vector
         std::copy(f.beta.begin(), f.beta.end(), betas.begin() + member_offset[s]);
         solved[s] = 1;
       },
-      32);
+      32);  // 32 sets a chunk: neighbouring sets' `solved` bytes share a cache line
 
   const int rows = angles.grid().rows(), cols = angles.grid().cols();
   const float prior_mean = static_cast<float>(prior.constant);

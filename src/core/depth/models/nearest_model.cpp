@@ -1,5 +1,4 @@
 #include "multimodal_nvs/core/depth/models/nearest_model.hpp"
-#include "multimodal_nvs/core/common/per_worker.hpp"
 
 // `nearest` baseline: the depth of the angularly nearest sample — exact, with no radius limit.
 // Samples go into a uniform bin grid in (azimuth, elevation). Pixels are handled in blocks: one
@@ -10,6 +9,7 @@
 #include <cmath>
 #include <limits>
 
+#include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/models/distance_variance.hpp"

@@ -1,5 +1,4 @@
 #include "multimodal_nvs/core/depth/models/tiled_local_gp_model.hpp"
-#include "multimodal_nvs/core/common/per_worker.hpp"
 
 // The approximation for dense input (max_neighbors > 0). With LiDAR a 2 deg circle holds ~200
 // samples and neighbour sets almost never repeat, so the exact method needs one O(n^3) length-scale
@@ -10,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/gp/batched_length_scale_search.hpp"
