@@ -16,6 +16,7 @@
 
 #include <memory>
 #include <mutex>
+#include <string>
 
 #include "depth_completion_diagnostics.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
@@ -44,6 +45,21 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     sync_settings_.queue_size = pnh.param("queue_size", 5);
     sync_settings_.approximate = pnh.param("approximate_sync", true);
     sync_settings_.max_interval = pnh.param("max_interval", 0.0);
+    sync_settings_.age_penalty = pnh.param("sync_age_penalty", SyncSettings{}.age_penalty);
+    sync_settings_.period_bound_fraction =
+        pnh.param("sync_period_bound_fraction", SyncSettings{}.period_bound_fraction);
+    const std::string sync_problem = syncSettingsProblem(sync_settings_);
+    if (!sync_problem.empty()) {
+      const SyncSettings defaults;
+      NODELET_ERROR(
+          "%s Using the defaults (queue_size %d, max_interval %g, sync_age_penalty %g, "
+          "sync_period_bound_fraction %g).",
+          sync_problem.c_str(), defaults.queue_size, defaults.max_interval, defaults.age_penalty,
+          defaults.period_bound_fraction);
+      sync_settings_ =
+          SyncSettings{defaults.queue_size, sync_settings_.approximate, defaults.max_interval,
+                       defaults.age_penalty, defaults.period_bound_fraction};
+    }
     compressed_input_ = pnh.param("compressed_input", false);
     tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
     max_points_ = pnh.param("max_points", 0);

@@ -13,6 +13,9 @@
 #include <boost/function.hpp>
 #include <functional>
 #include <memory>
+#include <string>
+
+#include "multimodal_nvs/ros/input_period_bound.hpp"
 
 namespace multimodal_nvs {
 
@@ -23,7 +26,22 @@ struct SyncSettings {
   /// ApproximateTime only: sets whose stamps span more than this (s) are never formed; 0 = no
   /// limit.
   double max_interval = 0.0;
+  /// ApproximateTime only: how much an earlier set is preferred to a later one whose stamps lie
+  /// closer together (message_filters' age penalty; its default). Higher values publish sooner
+  /// and may pair a cloud with an image further away in time.
+  double age_penalty = 0.1;
+  /// ApproximateTime only: each input's inter-message lower bound is this fraction of the shortest
+  /// interval between its stamps seen so far (InputPeriodBound); 0 = no bound, every set waits for
+  /// a later message to prove it optimal.
+  double period_bound_fraction = 0.9;
 };
+
+/// The settings' problems as one sentence each (negative or non-finite values, a fraction of 1 or
+/// more, which would put the next message later than it can come); empty when they are usable.
+std::string syncSettingsProblem(const SyncSettings& settings);
+
+/// The three inputs of a FrameSynchronizer, in the order of its message types.
+enum class FrameInput { kPoints, kImage, kCameraInfo };
 
 /// One synchronizer over (points, ImageMsg, camera_info). The callback receives message events so
 /// that it can read each message's receipt time (latency is measured from the latest of them).
@@ -49,6 +67,7 @@ class FrameSynchronizer {
       if (settings.max_interval > 0.0) {
         policy.setMaxIntervalDuration(ros::Duration(settings.max_interval));
       }
+      policy.setAgePenalty(settings.age_penalty);
       // const: a non-const policy would bind to the four-filter constructor.
       const ApproximatePolicy& const_policy = policy;
       approximate_.reset(
@@ -58,6 +77,14 @@ class FrameSynchronizer {
       const ExactPolicy policy(settings.queue_size);
       exact_.reset(new message_filters::Synchronizer<ExactPolicy>(policy, points, image, info));
       exact_->registerCallback(adapter);
+    }
+  }
+
+  /// The approximate policy's lower bound (s) on the time between two stamps of `input`; ignored
+  /// by the exact policy.
+  void setInterMessageLowerBound(FrameInput input, double seconds) {
+    if (approximate_) {
+      approximate_->setInterMessageLowerBound(static_cast<int>(input), ros::Duration(seconds));
     }
   }
 
@@ -77,9 +104,6 @@ ros::Time latestReceipt(const PointsEvent& points, const ImageEvent& image, cons
   return std::max({points.getReceiptTime(), image.getReceiptTime(), info.getReceiptTime()});
 }
 
-/// The three inputs of a FrameSynchronizer.
-enum class FrameInput { kPoints, kImage, kCameraInfo };
-
 /// What a node holds of a RestartableFrameSynchronizer, whichever its image message.
 class RestartableSynchronizer {
  public:
@@ -89,10 +113,14 @@ class RestartableSynchronizer {
 };
 
 /// A FrameSynchronizer behind one gate per input. Every message is first shown to `watch` (which
-/// counts it and may call restart()), then passed on. restart() replaces the synchronizer and its
-/// queues with it, so that after a restarted stream (a bag played again) the previous run's
-/// messages never pair with the new ones. Safe from inside `watch`: the synchronizer is connected
-/// to the gates, whose signals are not being called yet. The sources must outlive this object.
+/// counts it and may call restart()), then its stamp to the input's InputPeriodBound (a changed
+/// bound goes to the synchronizer, and to every synchronizer restart() makes), then it is passed
+/// on. The bounds are changed only here, on the thread that adds messages: a nodelet's inputs
+/// arrive on its single-threaded node handle, so no message is being added meanwhile. restart()
+/// replaces the synchronizer and its queues with it, so that after a restarted stream (a bag played
+/// again) the previous run's messages never pair with the new ones. Safe from inside `watch`: the
+/// synchronizer is connected to the gates, whose signals are not being called yet. The sources must
+/// outlive this object.
 template <class ImageMsg>
 class RestartableFrameSynchronizer : public RestartableSynchronizer {
  public:
@@ -103,7 +131,12 @@ class RestartableFrameSynchronizer : public RestartableSynchronizer {
   RestartableFrameSynchronizer(const SyncSettings& settings, PointsSource& points,
                                ImageSource& image, InfoSource& info, Watch watch,
                                typename Sync::Callback callback)
-      : settings_(settings), watch_(std::move(watch)), callback_(std::move(callback)) {
+      : settings_(settings),
+        watch_(std::move(watch)),
+        callback_(std::move(callback)),
+        periods_{InputPeriodBound(settings.period_bound_fraction),
+                 InputPeriodBound(settings.period_bound_fraction),
+                 InputPeriodBound(settings.period_bound_fraction)} {
     restart();
     connections_[0] = connect(points, points_gate_, FrameInput::kPoints);
     connections_[1] = connect(image, image_gate_, FrameInput::kImage);
@@ -121,7 +154,15 @@ class RestartableFrameSynchronizer : public RestartableSynchronizer {
   void restart() override {
     sync_.reset();
     sync_ = std::make_unique<Sync>(settings_, points_gate_, image_gate_, info_gate_, callback_);
+    // The sensors' periods do not change with a restarted stream.
+    for (int i = 0; i < 3; ++i) {
+      if (periods_[i].bound() > 0.0)
+        sync_->setInterMessageLowerBound(static_cast<FrameInput>(i), periods_[i].bound());
+    }
   }
+
+  /// The learned lower bound (s) on the time between two stamps of `input`; 0 while there is none.
+  double periodBound(FrameInput input) const { return periods_[static_cast<int>(input)].bound(); }
 
  private:
   template <class Source, class M>
@@ -130,6 +171,9 @@ class RestartableFrameSynchronizer : public RestartableSynchronizer {
     const boost::function<void(const ros::MessageEvent<const M>&)> forward =
         [this, &gate, input](const ros::MessageEvent<const M>& event) {
           watch_(input);
+          InputPeriodBound& period = periods_[static_cast<int>(input)];
+          if (period.observe(event.getMessage()->header.stamp.toSec()))
+            sync_->setInterMessageLowerBound(input, period.bound());
           gate.add(event);
         };
     return source.registerCallback(forward);
@@ -141,6 +185,7 @@ class RestartableFrameSynchronizer : public RestartableSynchronizer {
   message_filters::PassThrough<sensor_msgs::PointCloud2> points_gate_;
   message_filters::PassThrough<ImageMsg> image_gate_;
   message_filters::PassThrough<sensor_msgs::CameraInfo> info_gate_;
+  std::array<InputPeriodBound, 3> periods_;  // by FrameInput
   std::unique_ptr<Sync> sync_;
   std::array<message_filters::Connection, 3> connections_;
 };
