@@ -61,7 +61,8 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
                        defaults.age_penalty, defaults.period_bound_fraction};
     }
     compressed_input_ = pnh.param("compressed_input", false);
-    tf_timeout_ = ros::Duration(pnh.param("tf_timeout", 0.1));
+    cloud_to_camera_.timeout = ros::Duration(pnh.param("tf_timeout", 0.1));
+    cloud_to_camera_.fixed_frame = pnh.param("fixed_frame", std::string());
     max_points_ = pnh.param("max_points", 0);
     readColorScales(pnh);
 
@@ -206,7 +207,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     }
     if (!accept(admission.status, "image")) return;
     const rc::DepthFrameResult frame = rc::completeDepthFrame(
-        cloud, image, info, *tf_buffer_, tf_timeout_, settings, max_points_, workspace_);
+        cloud, image, info, *tf_buffer_, cloud_to_camera_, settings, max_points_, workspace_);
     if (frame.reading.step > 1) {
       diagnostics_.countSubsampled(frame.reading.step);
       NODELET_WARN_THROTTLE(5.0,
@@ -286,7 +287,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   // Static parameters (read once in onInit).
   SyncSettings sync_settings_;
   bool compressed_input_ = false;
-  ros::Duration tf_timeout_;
+  rc::CloudToCamera cloud_to_camera_;
   int max_points_ = 0;  // < 0: no limit, 0: automatic (pointCap), > 0: that many
   static constexpr double kDefaultDepthColorMax = 50.0;   // m: radar range of View-of-Delft
   static constexpr double kDefaultStddevColorMax = 10.0;  // m

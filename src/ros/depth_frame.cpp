@@ -13,15 +13,21 @@ namespace ros_conversions {
 
 ConversionStatus lookupSensorToCamera(const tf2_ros::Buffer& tf_buffer,
                                       const std_msgs::Header& cloud_header,
-                                      const std::string& camera_frame, const ros::Duration& timeout,
+                                      const std_msgs::Header& camera_header,
+                                      const CloudToCamera& how,
                                       Eigen::Isometry3d& sensor_to_camera) {
-  if (cloud_header.frame_id == camera_frame) {
+  const bool across_time = !how.fixed_frame.empty() && cloud_header.stamp != camera_header.stamp;
+  if (cloud_header.frame_id == camera_header.frame_id && !across_time) {
     sensor_to_camera.setIdentity();
     return ConversionStatus::success();
   }
   try {
-    sensor_to_camera = tf2::transformToEigen(tf_buffer.lookupTransform(
-        camera_frame, cloud_header.frame_id, cloud_header.stamp, timeout));
+    sensor_to_camera = tf2::transformToEigen(
+        across_time ? tf_buffer.lookupTransform(camera_header.frame_id, camera_header.stamp,
+                                                cloud_header.frame_id, cloud_header.stamp,
+                                                how.fixed_frame, how.timeout)
+                    : tf_buffer.lookupTransform(camera_header.frame_id, cloud_header.frame_id,
+                                                cloud_header.stamp, how.timeout));
     return ConversionStatus::success();
   } catch (const tf2::TransformException& e) {
     return ConversionStatus::failure(InputFault::kTransformUnavailable, e.what());
@@ -64,7 +70,7 @@ ConversionStatus completeDepthFromCloud(const sensor_msgs::PointCloud2& cloud,
 DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const FrameImage& image,
                                     const sensor_msgs::CameraInfo& info,
                                     const tf2_ros::Buffer& tf_buffer,
-                                    const ros::Duration& tf_timeout,
+                                    const CloudToCamera& cloud_to_camera,
                                     const DepthCompletionSettings& settings, int max_points,
                                     DepthCompletionWorkspace& workspace) {
   DepthFrameResult result;
@@ -76,7 +82,7 @@ DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const
   if (!result.status.ok()) return result;
   Eigen::Isometry3d sensor_to_camera;
   result.input = "tf";
-  result.status = lookupSensorToCamera(tf_buffer, cloud.header, image.header.frame_id, tf_timeout,
+  result.status = lookupSensorToCamera(tf_buffer, cloud.header, image.header, cloud_to_camera,
                                        sensor_to_camera);
   if (!result.status.ok()) return result;
   // Only image_guided and ground_gp's sky read the pixels (a compressed image is already decoded,

@@ -15,11 +15,24 @@
 namespace multimodal_nvs {
 namespace ros_conversions {
 
-/// The transform from the cloud's frame to `camera_frame` at the cloud's stamp, waiting up to
-/// `timeout` for it; identity without a lookup when the frames are the same.
+/// How a cloud's points are taken into the camera frame.
+struct CloudToCamera {
+  ros::Duration timeout{0.1};  ///< the longest wait for a transform
+  /// Empty: the transform at the cloud's stamp, as if the image had been taken then. A frame fixed
+  /// in the world (odom, map): the points where the sensor saw them at the cloud's stamp, seen from
+  /// where the camera was at the image's stamp (tf2's lookup across two times), so that the
+  /// vehicle's motion between the two stamps does not shift the returns against the image.
+  std::string fixed_frame;
+};
+
+/// The transform from the cloud's frame at its stamp to the camera's frame (`camera_header`'s) at
+/// the cloud's stamp, or with a fixed frame at the image's stamp, waiting up to `how.timeout` for
+/// it; identity without a lookup when the frames are the same and nothing moves them apart (no
+/// fixed frame, or equal stamps).
 ConversionStatus lookupSensorToCamera(const tf2_ros::Buffer& tf_buffer,
                                       const std_msgs::Header& cloud_header,
-                                      const std::string& camera_frame, const ros::Duration& timeout,
+                                      const std_msgs::Header& camera_header,
+                                      const CloudToCamera& how,
                                       Eigen::Isometry3d& sensor_to_camera);
 
 /// How the cloud was read.
@@ -62,7 +75,7 @@ struct DepthFrameResult {
 DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const FrameImage& image,
                                     const sensor_msgs::CameraInfo& info,
                                     const tf2_ros::Buffer& tf_buffer,
-                                    const ros::Duration& tf_timeout,
+                                    const CloudToCamera& cloud_to_camera,
                                     const DepthCompletionSettings& settings, int max_points,
                                     DepthCompletionWorkspace& workspace);
 
