@@ -129,11 +129,12 @@ struct RowScratch {
   std::vector<std::uint8_t> inside;      // membership over one sample's column window
 };
 
-// Rows go to the workers one at a time: each row's result on cache lines of its own (see
-// PerWorker).
-struct alignas(128) RowResult {
-  std::vector<NeighbourSegment> segments;  // set_id refers to the worker's LocalSetTable
+// Where a row's segments went: the worker that found them appends every row's segments to one
+// buffer of its own (set_id refers to that worker's LocalSetTable). A vector per row cost a
+// sixteenth of the sets' time in allocations.
+struct RowSpan {
   int worker = 0;
+  std::size_t begin = 0, end = 0;
 };
 
 }  // namespace
@@ -168,13 +169,16 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
 
   PerWorker<LocalSetTable> tables(pool.size());
   PerWorker<RowScratch> scratch(pool.size());
-  std::vector<RowResult> row_results(rows);
+  PerWorker<std::vector<NeighbourSegment>> found(pool.size());
+  std::vector<RowSpan> row_spans(rows);
 
   pool.parallelFor(rows, [&](long long row_index, int worker) {
     const int row = static_cast<int>(row_index);
     RowScratch& s = scratch[worker];
-    RowResult& result = row_results[row];
-    result.worker = worker;
+    std::vector<NeighbourSegment>& segments = found[worker];
+    RowSpan& span = row_spans[row];
+    span.worker = worker;
+    span.begin = span.end = segments.size();
     s.crossings.clear();
     const float* az = grid.azimuthRow(row);
     const float* el = grid.elevationRow(row);
@@ -210,7 +214,7 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
       if (column > position && !s.current.empty()) {
         const int id =
             tables[worker].intern(hash, s.current.data(), static_cast<int>(s.current.size()));
-        result.segments.push_back({row, position, column, id});
+        segments.push_back({row, position, column, id});
       }
       for (; i < s.crossings.size() && crossingColumn(s.crossings[i]) == column; ++i) {
         const int sample = crossingSample(s.crossings[i]);
@@ -224,6 +228,7 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
       }
       position = column;
     }
+    span.end = segments.size();
   });
 
   // Merge the per-worker tables into one: worker 0's table is taken as it is (its ids stay), the
@@ -252,17 +257,19 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
   // radar frame on two cores).
   out.row_offsets_.assign(rows + 1, 0);
   for (int r = 0; r < rows; ++r)
-    out.row_offsets_[r + 1] = out.row_offsets_[r] + row_results[r].segments.size();
+    out.row_offsets_[r + 1] = out.row_offsets_[r] + (row_spans[r].end - row_spans[r].begin);
   out.segments_.resize(out.row_offsets_[rows]);
   std::vector<long long> row_pixels(rows, 0);
   pool.parallelFor(
       rows,
       [&](long long r, int) {
-        const RowResult& result = row_results[r];
-        const int* renumber = result.worker == 0 ? nullptr : global_id[result.worker].data();
+        const RowSpan& span = row_spans[r];
+        const int* renumber = span.worker == 0 ? nullptr : global_id[span.worker].data();
+        const NeighbourSegment* in = found[span.worker].data();
         NeighbourSegment* out_segment = out.segments_.data() + out.row_offsets_[r];
         long long pixels = 0;
-        for (NeighbourSegment seg : result.segments) {
+        for (std::size_t k = span.begin; k < span.end; ++k) {
+          NeighbourSegment seg = in[k];
           if (renumber != nullptr) seg.set_id = renumber[seg.set_id];
           pixels += seg.col_end - seg.col_begin;
           *out_segment++ = seg;
