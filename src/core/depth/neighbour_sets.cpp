@@ -186,6 +186,21 @@ NeighbourSets NeighbourSets::build(const std::vector<AngularSample>& samples,
                                         grid.minElevation(row) - reach);
     const auto last =
         std::upper_bound(first, sorted_elevation.end(), grid.maxElevation(row) + reach);
+    // The candidates come in elevation order, so their column windows jump about the row and each
+    // first touch of a cache line of its angles stalled (the first load of the exact test was a
+    // fifth of the build's samples). The row's span is fetched ahead instead.
+    {
+      int lo = grid.grid().cols(), hi = 0;
+      for (auto it = first; it != last; ++it) {
+        const int sample = by_elevation[it - sorted_elevation.begin()];
+        lo = std::min(lo, column_window[sample].first);
+        hi = std::max(hi, column_window[sample].second);
+      }
+      for (int c = lo; c < hi; c += 16) {
+        __builtin_prefetch(az + c);
+        __builtin_prefetch(el + c);
+      }
+    }
     for (auto it = first; it != last; ++it) {
       const int sample = by_elevation[it - sorted_elevation.begin()];
       const float saz = samples[sample].azimuth_deg;
