@@ -1,5 +1,6 @@
 // completeDepthFrame and its steps on the synthetic scene: the sensor -> camera transform (at the
-// cloud's stamp, or across the two stamps through a fixed frame), the point cap, the order in which faults are reported, the core's result unchanged; no master.
+// cloud's stamp, or across the two stamps through a fixed frame), the point cap, the order in which
+// faults are reported, the core's result unchanged; no master.
 #include <gtest/gtest.h>
 #include <tf2_ros/buffer.h>
 
