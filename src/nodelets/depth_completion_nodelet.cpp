@@ -56,9 +56,9 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
           "sync_period_bound_fraction %g).",
           sync_problem.c_str(), defaults.queue_size, defaults.max_interval, defaults.age_penalty,
           defaults.period_bound_fraction);
-      sync_settings_ =
-          SyncSettings{defaults.queue_size, sync_settings_.approximate, defaults.max_interval,
-                       defaults.age_penalty, defaults.period_bound_fraction};
+      const bool approximate = sync_settings_.approximate;
+      sync_settings_ = defaults;
+      sync_settings_.approximate = approximate;
     }
     compressed_input_ = pnh.param("compressed_input", false);
     cloud_to_camera_.timeout = ros::Duration(pnh.param("tf_timeout", 0.1));

@@ -161,9 +161,6 @@ class RestartableFrameSynchronizer : public RestartableSynchronizer {
     }
   }
 
-  /// The learned lower bound (s) on the time between two stamps of `input`; 0 while there is none.
-  double periodBound(FrameInput input) const { return periods_[static_cast<int>(input)].bound(); }
-
  private:
   template <class Source, class M>
   message_filters::Connection connect(Source& source, message_filters::PassThrough<M>& gate,
