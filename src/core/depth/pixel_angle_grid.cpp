@@ -13,8 +13,8 @@ PixelAngleGrid::PixelAngleGrid(const PinholeIntrinsics& intrinsics, const Stride
     : intrinsics_(intrinsics), grid_(grid) {
   const int rows = grid.rows();
   const int cols = grid.cols();
-  azimuth_.resize(std::size_t(rows) * cols);
-  elevation_.resize(std::size_t(rows) * cols);
+  azimuth_.resize(std::size_t(rows) * cols + kRowReadPadding);
+  elevation_.resize(std::size_t(rows) * cols + kRowReadPadding);
   row_min_elevation_.resize(rows);
   row_max_elevation_.resize(rows);
   // The reference does this whole computation in float32, with the intrinsics rounded to float32.

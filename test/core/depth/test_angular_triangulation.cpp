@@ -236,8 +236,11 @@ TEST(AngularTriangulation, BarycentricRowEqualsThePerPixelTest) {
   }
   row_az[5] = std::numeric_limits<float>::quiet_NaN();
   const int n = static_cast<int>(row_az.size());
-  std::vector<double> l1s(n), l2s(n);
-  std::vector<std::uint8_t> inside(n);
+  // The row test works in whole blocks: inputs readable and outputs writable that far.
+  row_az.resize(std::size_t(n) + mm::kBarycentricBlock, 0.0f);
+  row_el.resize(std::size_t(n) + mm::kBarycentricBlock, 0.0f);
+  std::vector<double> l1s(n + mm::kBarycentricBlock), l2s(n + mm::kBarycentricBlock);
+  std::vector<std::uint8_t> inside(n + mm::kBarycentricBlock);
   mm::barycentricRow(t, row_az.data(), row_el.data(), n, l1s.data(), l2s.data(), inside.data());
   int inside_count = 0;
   for (int i = 0; i < n; ++i) {
@@ -257,6 +260,63 @@ TEST(AngularTriangulation, BarycentricRowEqualsThePerPixelTest) {
   EXPECT_TRUE(inside[5]);      // NaN passes, as it does the scalar test
   EXPECT_GT(inside_count, 5);  // the row crosses the triangle
   EXPECT_LT(inside_count, n - 5);
+}
+
+}  // namespace
+
+namespace {
+
+TEST(AngularTriangulation, RasterisedRowsEqualAPerPixelScanOfEveryTriangle) {
+  // Random samples over more than the view, so that boxes reach the grid's last row and column
+  // (the row test reads whole blocks past a box, into the grid's padding): every pixel gets the
+  // first triangle (in order) whose scalar test it passes inside the triangle's box, with that
+  // test's coordinates.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> az(-34.0f, 34.0f), el(-26.0f, 26.0f), z(2.0f, 40.0f);
+  std::vector<mm::AngularSample> samples(300);
+  for (auto& s : samples)
+    s = {az(rng), el(rng), z(rng)};
+  const mm::StrideGrid grid{{47, 61}, 1};  // no multiple of the row test's block
+  const mm::PixelAngleGrid angles(kCamera, grid);
+  const std::vector<mm::AngularTriangle> triangles = mm::triangulateSamples(samples, angles);
+  ASSERT_GT(triangles.size(), 100u);
+  mm::ThreadPool pool(2);
+  std::vector<std::uint8_t> filled;
+  std::vector<int> winner(grid.size(), -1);
+  std::vector<double> l1_at(grid.size(), 0.0);
+  mm::rasterizeTriangles(triangles, angles, pool, filled,
+                         [&](const mm::AngularTriangle& t, double, double l1, double,
+                             std::size_t pixel, float, float) {
+                           winner[pixel] = static_cast<int>(&t - triangles.data());
+                           l1_at[pixel] = l1;
+                           return true;
+                         });
+  int filled_count = 0;
+  for (int r = 0; r < grid.rows(); ++r) {
+    for (int c = 0; c < grid.cols(); ++c) {
+      const std::size_t pixel = std::size_t(r) * grid.cols() + c;
+      int expected = -1;
+      double expected_l1 = 0.0;
+      for (std::size_t i = 0; i < triangles.size() && expected < 0; ++i) {
+        const mm::AngularTriangle& t = triangles[i];
+        if (r < t.row0 || r > t.row1 || c < t.col0 || c > t.col1) continue;
+        const double pa = double(angles.azimuthRow(r)[c]) - t.az[0];
+        const double pe = double(angles.elevationRow(r)[c]) - t.el[0];
+        const double inv_det = 1.0 / t.det;
+        const double l1 = (pa * (t.el[2] - t.el[0]) - (t.az[2] - t.az[0]) * pe) * inv_det;
+        const double l2 = ((t.az[1] - t.az[0]) * pe - pa * (t.el[1] - t.el[0])) * inv_det;
+        if (!(1.0 - l1 - l2 < -1e-7 || l1 < -1e-7 || l2 < -1e-7)) {
+          expected = static_cast<int>(i);
+          expected_l1 = l1;
+        }
+      }
+      ASSERT_EQ(winner[pixel], expected) << r << " " << c;
+      EXPECT_EQ(bool(filled[pixel]), expected >= 0);
+      if (expected >= 0) EXPECT_EQ(l1_at[pixel], expected_l1);
+      filled_count += expected >= 0;
+    }
+  }
+  EXPECT_GT(filled_count, grid.size() / 2);
 }
 
 }  // namespace

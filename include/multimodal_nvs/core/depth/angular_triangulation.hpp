@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <future>
 #include <vector>
 
@@ -64,11 +65,38 @@ class BackgroundTriangulation {
   std::future<std::vector<AngularTriangle>> triangles_;
 };
 
+/// barycentricRow() works in whole blocks of this many pixels.
+constexpr int kBarycentricBlock = 8;
+
+/// A block of pixels' values (GCC/Clang vector extension: element-wise IEEE arithmetic, so a lane
+/// computes exactly what the same scalar expression computes; this package compiles without
+/// floating-point contraction). Spelled out because the compiler's own vectorisation of these
+/// loops picks 32 pixels a step (the byte-wide inside flags set the width) and leaves every
+/// narrower box row, nearly all of them, to its scalar remainder.
+typedef double BlockDoubles __attribute__((vector_size(kBarycentricBlock * sizeof(double))));
+typedef float BlockFloats __attribute__((vector_size(kBarycentricBlock * sizeof(float))));
+typedef long long BlockMask __attribute__((vector_size(kBarycentricBlock * sizeof(long long))));
+
+inline BlockDoubles loadBlock(const double* p) {
+  BlockDoubles v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline BlockDoubles loadBlockAsDoubles(const float* p) {
+  BlockFloats v;
+  std::memcpy(&v, p, sizeof v);
+  return __builtin_convertvector(v, BlockDoubles);
+}
+inline void storeBlock(const BlockDoubles& v, double* p) {
+  std::memcpy(p, &v, sizeof v);
+}
+
 /// The barycentric coordinates l1, l2 (l0 = 1 - l1 - l2) of n pixels with angles (az, el) in
 /// triangle t, and whether each is inside it: no coordinate below -1e-7 (a NaN coordinate counts
 /// as inside, as the scalar test `l < tolerance` lets it through). The arithmetic is that of a
-/// scalar pixel loop (the package builds without FMA contraction), so vectorising it changes no
-/// bit.
+/// scalar pixel loop, bit for bit. Works on n rounded up to whole kBarycentricBlock blocks: the
+/// angles must be readable and the outputs writable that far (PixelAngleGrid's rows are, see
+/// kRowReadPadding); the pixels past n get values nobody should read.
 inline void barycentricRow(const AngularTriangle& t, const float* __restrict az,
                            const float* __restrict el, int n, double* __restrict l1s,
                            double* __restrict l2s, std::uint8_t* __restrict inside) {
@@ -77,26 +105,49 @@ inline void barycentricRow(const AngularTriangle& t, const float* __restrict az,
   const double az0 = t.az[0], el0 = t.el[0];
   const double d_az1 = t.az[1] - t.az[0], d_el1 = t.el[1] - t.el[0];
   const double d_az2 = t.az[2] - t.az[0], d_el2 = t.el[2] - t.el[0];
-  for (int i = 0; i < n; ++i) {
-    const double pa = double(az[i]) - az0, pe = double(el[i]) - el0;
-    const double l1 = (pa * d_el2 - d_az2 * pe) * inv_det;
-    const double l2 = (d_az1 * pe - pa * d_el1) * inv_det;
-    const double l0 = 1.0 - l1 - l2;
-    l1s[i] = l1;
-    l2s[i] = l2;
-    inside[i] = !(l0 < kInsideTolerance) & !(l1 < kInsideTolerance) & !(l2 < kInsideTolerance);
+  for (int b = 0; b < n; b += kBarycentricBlock) {
+    const BlockDoubles pa = loadBlockAsDoubles(az + b) - az0;
+    const BlockDoubles pe = loadBlockAsDoubles(el + b) - el0;
+    const BlockDoubles l1 = (pa * d_el2 - d_az2 * pe) * inv_det;
+    const BlockDoubles l2 = (d_az1 * pe - pa * d_el1) * inv_det;
+    const BlockDoubles l0 = 1.0 - l1 - l2;
+    storeBlock(l1, l1s + b);
+    storeBlock(l2, l2s + b);
+    const BlockMask in =
+        ~(l0 < kInsideTolerance) & ~(l1 < kInsideTolerance) & ~(l2 < kInsideTolerance);
+    for (int i = 0; i < kBarycentricBlock; ++i)
+      inside[b + i] = static_cast<std::uint8_t>(in[i] & 1);
   }
 }
 
-/// Calls `f(triangle, l0, l1, l2, pixel, az, el)` with the barycentric coordinates and the angles
-/// of every grid pixel inside a triangle (angular domain, each pixel's own float32 angles). `f`
-/// returns true when it wrote the pixel; the first triangle that writes a pixel wins (on a shared
-/// edge both interpolate the same value). `filled` (grid size) marks written pixels. Row bands run
-/// in parallel.
+/// One row of one triangle's box for rasterizeTriangleRows()'s callback: pixels [col0, col0 +
+/// width) of grid row `row` (offset `row_offset` = row * cols in grid vectors), their angles
+/// (`az[c]`, `el[c]` for column c) and, per box pixel i (column col0 + i), the barycentric
+/// coordinates l1s[i], l2s[i] and whether it lies inside the triangle.
+struct TriangleBoxRow {
+  int row = 0;
+  int col0 = 0;
+  int width = 0;
+  std::size_t row_offset = 0;
+  const float* az = nullptr;
+  const float* el = nullptr;
+  const double* l1s = nullptr;
+  const double* l2s = nullptr;
+  const std::uint8_t* inside = nullptr;
+};
+
+/// Calls `f(triangle, box_row, filled_row)` for every row of every triangle's box that meets the
+/// grid; `filled_row` points at the grid row's marks (column c at filled_row[c]). The callback
+/// writes the pixels inside the triangle that are not yet filled and marks them: the first
+/// triangle to write a pixel wins (on a shared edge both interpolate the same value). `filled`
+/// (grid size) marks written pixels. Row bands run in parallel; a callback writes only its row.
 template <typename F>
-void rasterizeTriangles(const std::vector<AngularTriangle>& triangles, const PixelAngleGrid& angles,
-                        ThreadPool& pool, std::vector<std::uint8_t>& filled, F&& f) {
+void rasterizeTriangleRows(const std::vector<AngularTriangle>& triangles,
+                           const PixelAngleGrid& angles, ThreadPool& pool,
+                           std::vector<std::uint8_t>& filled, F&& f) {
   const int rows = angles.grid().rows(), cols = angles.grid().cols();
+  static_assert(PixelAngleGrid::kRowReadPadding >= kBarycentricBlock,
+                "barycentricRow reads whole blocks of a grid row");
   filled.assign(static_cast<std::size_t>(rows) * cols, 0);
   const int band_rows = 16;
   const int bands = (rows + band_rows - 1) / band_rows;
@@ -120,30 +171,53 @@ void rasterizeTriangles(const std::vector<AngularTriangle>& triangles, const Pix
   pool.parallelFor(bands, [&](long long b, int) {
     const int r_begin = static_cast<int>(b) * band_rows;
     const int r_end = std::min(rows, r_begin + band_rows);
-    // A row of a triangle's box: its barycentric coordinates, and whether each pixel is inside.
-    std::vector<double> l1s(cols), l2s(cols);
-    std::vector<std::uint8_t> inside(cols);
+    // A row of a triangle's box: its barycentric coordinates, and whether each pixel is inside
+    // (whole blocks: see barycentricRow).
+    std::vector<double> l1s(std::size_t(cols) + kBarycentricBlock),
+        l2s(std::size_t(cols) + kBarycentricBlock);
+    std::vector<std::uint8_t> inside(std::size_t(cols) + kBarycentricBlock);
     for (int k = band_start[b]; k < band_start[b + 1]; ++k) {
       const AngularTriangle& t = triangles[band_triangles[k]];
       for (int r = std::max(r_begin, t.row0); r <= std::min(r_end - 1, t.row1); ++r) {
+        const int width = t.col1 - t.col0 + 1;
+        if (width <= 0) continue;
         const float* az = angles.azimuthRow(r);
         const float* el = angles.elevationRow(r);
         const std::size_t row = std::size_t(r) * cols;
-        const int width = t.col1 - t.col0 + 1;
-        if (width <= 0) continue;
         // Most of a box lies outside its triangle (5 of 6 pixels on a VoD LiDAR frame), so the
         // test runs on the whole row of the box at once (it vectorises) before any pixel is
         // written.
         barycentricRow(t, az + t.col0, el + t.col0, width, l1s.data(), l2s.data(), inside.data());
-        for (int i = 0; i < width; ++i) {
-          const int c = t.col0 + i;
-          if (!inside[i] || filled[row + c]) continue;
-          const double l1 = l1s[i], l2 = l2s[i], l0 = 1.0 - l1 - l2;
-          if (f(t, l0, l1, l2, row + c, az[c], el[c])) filled[row + c] = 1;
-        }
+        f(t, TriangleBoxRow{r, t.col0, width, row, az, el, l1s.data(), l2s.data(), inside.data()},
+          filled.data() + row);
       }
     }
   });
+}
+
+/// The per-pixel loop of one box row (rasterizeTriangles' callback form).
+template <typename F>
+void rasterizeBoxRow(const AngularTriangle& t, const TriangleBoxRow& box, std::uint8_t* filled_row,
+                     F&& f) {
+  for (int i = 0; i < box.width; ++i) {
+    const int c = box.col0 + i;
+    if (!box.inside[i] || filled_row[c]) continue;
+    const double l1 = box.l1s[i], l2 = box.l2s[i], l0 = 1.0 - l1 - l2;
+    if (f(t, l0, l1, l2, box.row_offset + c, box.az[c], box.el[c])) filled_row[c] = 1;
+  }
+}
+
+/// Calls `f(triangle, l0, l1, l2, pixel, az, el)` with the barycentric coordinates and the angles
+/// of every grid pixel inside a triangle (angular domain, each pixel's own float32 angles). `f`
+/// returns true when it wrote the pixel; the first triangle that writes a pixel wins (on a shared
+/// edge both interpolate the same value). `filled` (grid size) marks written pixels. Row bands run
+/// in parallel.
+template <typename F>
+void rasterizeTriangles(const std::vector<AngularTriangle>& triangles, const PixelAngleGrid& angles,
+                        ThreadPool& pool, std::vector<std::uint8_t>& filled, F&& f) {
+  rasterizeTriangleRows(triangles, angles, pool, filled,
+                        [&](const AngularTriangle& t, const TriangleBoxRow& box,
+                            std::uint8_t* filled_row) { rasterizeBoxRow(t, box, filled_row, f); });
 }
 
 }  // namespace multimodal_nvs

@@ -19,6 +19,12 @@ class PixelAngleGrid {
   PixelAngleGrid() = default;
   PixelAngleGrid(const PinholeIntrinsics& intrinsics, const StrideGrid& grid);
 
+  /// A row pointer may be read up to this many floats past the row's last pixel (into the next
+  /// row, and after the last row into zero padding): vector loops over a span of a row then run
+  /// in whole blocks, without a scalar remainder (most spans a rasteriser visits are shorter than
+  /// one block of the vectorised loop, which left nearly all the work to the remainder).
+  static constexpr int kRowReadPadding = 16;
+
   const StrideGrid& grid() const { return grid_; }
   const PinholeIntrinsics& intrinsics() const { return intrinsics_; }
   const float* azimuthRow(int row) const {
