@@ -352,8 +352,9 @@ struct DenseVertexInfo {
 /// a LiDAR frame): depth interpolated as inverse depth, variance from the surface's relative sigma
 /// (`rel2`) plus the spread of the three depths. The same arithmetic as the per-pixel path of an
 /// edge triangle whose pixel lies on the surface of all three vertices, bit for bit, but in two
-/// loops: every box pixel in whole blocks of vector arithmetic into `scratch`, then a
-/// branch-free store of those inside and not yet filled. Per pixel it divides four times, which
+/// loops: the row's span of pixels inside in whole blocks of vector arithmetic into `scratch`
+/// (its blocks may reach past the box into the padding of `box`'s buffers), then a branch-free
+/// store of those inside and not yet filled. Per pixel it divides four times, which
 /// one at a time was most of the rasteriser's cost.
 void rasterizeSurfaceRow(const AngularTriangle& t, float longest_edge_deg, double rel2,
                          const TriangleBoxRow& box, std::uint8_t* filled_row, float* mean_row,
@@ -368,7 +369,14 @@ void rasterizeSurfaceRow(const AngularTriangle& t, float longest_edge_deg, doubl
   const double z0 = t.z[0], z1 = t.z[1], z2 = t.z[2];
   const double fallback_inverse = 1.0 / z0;  // no weight: the nearest vertex, 0 without an edge
   const BlockDoubles zero = BlockDoubles{} + 0.0;
-  for (int b = 0; b < box.width; b += kBarycentricBlock) {
+  // Only the span from the first to the last pixel inside (on a VoD LiDAR frame a one-surface
+  // triangle's box row is ~10 pixels wide with ~3 inside).
+  int first = 0, last = box.width - 1;
+  while (first <= last && !box.inside[first])
+    ++first;
+  while (last >= first && !box.inside[last])
+    --last;
+  for (int b = first; b <= last; b += kBarycentricBlock) {
     const BlockDoubles l1 = loadBlock(box.l1s + b), l2 = loadBlock(box.l2s + b);
     const BlockDoubles l0 = 1.0 - l1 - l2;
     // std::max(0.0, l) spelled out, NaN to 0 as it does.
@@ -395,7 +403,7 @@ void rasterizeSurfaceRow(const AngularTriangle& t, float longest_edge_deg, doubl
     std::memcpy(mean_out + b, &mean32, sizeof mean32);
     std::memcpy(variance_out + b, &variance32, sizeof variance32);
   }
-  for (int i = 0; i < box.width; ++i) {
+  for (int i = first; i <= last; ++i) {
     const int c = box.col0 + i;
     const bool write = box.inside[i] && !filled_row[c];
     mean_row[c] = write ? mean_out[i] : mean_row[c];
