@@ -43,7 +43,8 @@
 #              GEN3C's 100 m clamp (and the exact depth with the sky dropped).
 #   vod        00549/01047: radar and LiDAR (1-in-4 input, the rest as ground truth) depth, the
 #              radius and retention ablations; 08350: novel views into 08350-08365 at 704x1280
-#              (radar, 80 and 100 % retention). No oracle: no exact depth.
+#              (radar, 80 and 100 % retention) along the map poses (the reference's) and the
+#              odometry poses. No oracle: no exact depth.
 #   astyx, nuscenes, distorted_camera (VoD layout, no poses), kitti (KITTI object layout, LiDAR
 #              only; skipped with the reason while the tools cannot read that layout): depth
 #              from radar (where the folder has radar) and from LiDAR (1-in-4 input, the rest as
@@ -190,27 +191,30 @@ depth_runs() {
   done
 }
 
-# render_nvs PREFIX IMAGE CALIB ROOT FIRST LAST H W: renders PREFIX_depth.npy (+ PREFIX_valid.npy)
-# into the recorded poses FIRST..LAST; metrics to PREFIX.metrics.json, the tool's line to
-# PREFIX.render.json.
+# render_nvs PREFIX IMAGE CALIB ROOT FIRST LAST H W [POSE_KEY OUT]: renders PREFIX_depth.npy
+# (+ PREFIX_valid.npy) into the recorded poses FIRST..LAST; metrics to OUT.metrics.json, the tool's
+# line to OUT.render.json (OUT: PREFIX unless given). POSE_KEY: which transform of the VoD pose
+# files is the trajectory (default: the tool's, mapToCamera as the reference renderer).
 render_nvs() {
-  local prefix=$1 image=$2 calib=$3 root=$4 first=$5 last=$6
-  local valid=()
+  local prefix=$1 image=$2 calib=$3 root=$4 first=$5 last=$6 out=${10:-$1}
+  local valid=() pose=()
   [[ -f "${prefix}_valid.npy" ]] && valid=(--valid "${prefix}_valid.npy")
-  try_json "$prefix.render.json" "$TOOLS/render_conditioning" --image "$image" \
+  [[ -n "${9:-}" ]] && pose=(--pose-key "$9")
+  try_json "$out.render.json" "$TOOLS/render_conditioning" --image "$image" \
     --depth "${prefix}_depth.npy" "${valid[@]}" --calib "$calib" --vod-root "$root" \
-    --frames "$first-$last" --num-frames $((last - first + 1)) --size "$7" "$8" \
-    --threads "$THREADS" --output "$prefix.render" || return 0
-  cp "$prefix.render/metrics.json" "$prefix.metrics.json"
+    --frames "$first-$last" --num-frames $((last - first + 1)) --size "$7" "$8" "${pose[@]}" \
+    --threads "$THREADS" --output "$out.render" || return 0
+  cp "$out.render/metrics.json" "$out.metrics.json"
   if [[ "${EVAL_KEEP_FRAMES:-0}" != 1 ]]; then
-    rm -rf "$prefix.render"
+    rm -rf "$out.render"
   fi
 }
 
-# nvs_model_runs DIR ROOT FRAME_ID INPUT RETENTIONS FIRST LAST H W: depth of frame FRAME_ID from
-# INPUT by every model at each retention, rendered into FIRST..LAST.
+# nvs_model_runs DIR ROOT FRAME_ID INPUT RETENTIONS FIRST LAST H W [ALSO_POSE_KEY]: depth of frame
+# FRAME_ID from INPUT by every model at each retention, rendered into FIRST..LAST; with
+# ALSO_POSE_KEY also along that transform of the pose files (to PREFIX.<key>.metrics.json).
 nvs_model_runs() {
-  local dir=$1 root=$2 fid=$3 input=$4 retentions=$5 first=$6 last=$7 h=$8 w=$9
+  local dir=$1 root=$2 fid=$3 input=$4 retentions=$5 first=$6 last=$7 h=$8 w=$9 also=${10:-}
   local model retain
   mkdir -p "$dir"
   for model in "${NVS_MODELS[@]}"; do
@@ -223,6 +227,11 @@ nvs_model_runs() {
         --retain-percent "$retain" --threads "$THREADS" --output "$prefix"; then
         render_nvs "$prefix" "$root/lidar/training/image_2/$fid.jpg" \
           "$root/$input/training/calib/$fid.txt" "$root" "$first" "$last" "$h" "$w"
+        if [[ -n "$also" ]]; then
+          render_nvs "$prefix" "$root/lidar/training/image_2/$fid.jpg" \
+            "$root/$input/training/calib/$fid.txt" "$root" "$first" "$last" "$h" "$w" \
+            "$also" "$prefix.$also"
+        fi
       fi
       rm -f "${prefix}_depth.npy" "${prefix}_variance.npy" "${prefix}_valid.npy"
     done
@@ -332,8 +341,13 @@ else
   if skipped nvs; then
     progress "vod: novel view skipped (EVAL_SKIP)"
   elif [[ -f "$VOD/radar/training/velodyne/08350.bin" ]]; then
+    # Also along the odometry poses: VoD's map poses (the reference renderer's trajectory) carry
+    # the localisation's corrections (on 08350-08365 their rotation since 08350 differs from the
+    # odometry's by 0.04-0.53 deg, jumping between neighbouring frames); REP 105: the odom frame
+    # is continuous, the map frame may jump.
     nvs_model_runs "$RAW/vod/nvs" "$VOD" 08350 radar \
-      "$(printf '%s\n' 80 100 "$RADAR_RETENTION" | sort -nu | tr '\n' ' ')" 8350 8365 704 1280
+      "$(printf '%s\n' 80 100 "$RADAR_RETENTION" | sort -nu | tr '\n' ' ')" 8350 8365 704 1280 \
+      odomToCamera
   else
     progress "vod: novel view skipped: no radar scan of frame 08350"
   fi
