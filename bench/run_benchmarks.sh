@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `make bench`: every benchmark of the package, medians only. Usage: bench/run_benchmarks.sh [BUILD_DIR]
-#   1. each Google Benchmark binary built from bench/*.cpp, BENCH_REPETITIONS runs per case
-#      (default 5); prints one line per case with the median real and CPU time;
+#   1. each Google Benchmark binary built from bench/*.cpp and bench/ros_conversions/*.cpp,
+#      BENCH_REPETITIONS runs per case (default 5); prints one line per case with the median real
+#      and CPU time;
 #   2. the node latency harnesses: bench/ros/bench_depth_node.sh at stride 1 and 2 (median node
 #      latency, end-to-end latency and compute time of 150 sets at 15 Hz) and
 #      bench/ros/bench_renderer.sh at stride 2 (median render, callback and end-to-end times);
@@ -18,7 +19,7 @@ OUT=$BUILD_DIR/bench
 mkdir -p "$OUT"
 status=0
 
-for source in bench/*.cpp; do
+for source in bench/*.cpp bench/ros_conversions/*.cpp; do
   name=$(basename "$source" .cpp)
   if [[ ! -x "$BIN/$name" ]]; then
     echo "[bench] $name: not built (Debian's libbenchmark-dev missing?)" >&2

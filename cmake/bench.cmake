@@ -1,6 +1,7 @@
 # Benchmarks (not tests: speed targets live here, never in timed unit tests). `make bench` runs
 # bench/run_benchmarks.sh, which prints the median of every case.
 #   bench/*.cpp      Google Benchmark binaries over the core (one executable per file)
+#   bench/ros_conversions/*.cpp  the same over the ROS message conversions (no master)
 #   bench/ros/*.cpp  harnesses that drive a running node (need a master; see each file's header)
 find_package(benchmark QUIET)
 file(GLOB MMNVS_BENCH_SOURCES CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/bench/*.cpp)
@@ -13,6 +14,9 @@ if(benchmark_FOUND)
       MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}"
       MMNVS_SOURCE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
   endforeach()
+  # The depth nodelet's message conversions (ROS message types, no master).
+  add_executable(bench_ros_conversions bench/ros_conversions/bench_ros_conversions.cpp)
+  target_link_libraries(bench_ros_conversions multimodal_nvs_ros benchmark::benchmark)
 endif()
 
 # Node latency harness: bench/ros/bench_depth_node.sh starts the node and drives it with this.
