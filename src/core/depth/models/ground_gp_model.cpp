@@ -766,52 +766,50 @@ void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionPar
     const double l[3] = {std::max(0.0, l0), std::max(0.0, l1), std::max(0.0, l2)};
     const DenseVertexInfo& v = info[&t - triangles.data()];
     longest[pixel] = v.longest_edge_deg;
-    // The surface the pixel lies on: without an edge, all three vertices' (so j does not
-    // matter). Across an edge, the vertex depth with the most support among the pixel's
+    // The surface the pixel lies on: the vertex depth with the most support among the pixel's
     // nearest samples, each weighted by its inverse squared angular distance: a vote of
     // several returns, so that one stray return (a background return seen past the edge from
     // the LiDAR's viewpoint, a return through foliage) does not decide alone as it does for
-    // the nearest-sample baseline. No support at all: the nearest vertex.
+    // the nearest-sample baseline. No support at all: the nearest vertex. (Triangles without an
+    // edge, one surface, go through rasterizeSurfaceRow.)
     int j = 0;
-    if (v.edge) {
-      // A decisive vote (the winning surface has kVoteDecisiveRatio times the support of any
-      // other) stands for the next kVoteReusePixels pixels of the same triangle row: the k
-      // nearest returns of neighbouring pixels are nearly the same, and the queries were the
-      // largest cost of the dense mode. Near a close vote every pixel queries.
-      thread_local VoteMemory memory;
-      if (memory.frame == frame && memory.triangle == &t && pixel == memory.pixel + 1 &&
-          pixel % static_cast<std::size_t>(cols) != 0 && memory.reuses_left > 0) {
-        j = memory.winner;
-        --memory.reuses_left;
-        memory.pixel = pixel;
-      } else {
-        j = nearestVertex(t, az, el);
-        thread_local std::vector<std::pair<double, int>> nearest;
-        voteNeighbours(frame, pixel, az, el, g.surface_k, bins, angles, nearest);
-        // Each neighbour's weight and depth once (not once per vertex); each support still
-        // sums its neighbours nearest first.
-        double support[3] = {0.0, 0.0, 0.0};
-        for (const auto& nn : nearest) {
-          const double weight = 1.0 / (nn.first + kVoteDistanceFloorDeg2);
-          const double depth = usable[nn.second].depth;
-          for (int i = 0; i < 3; ++i) {
-            if (depthsWithinRatio(depth, t.z[i], ratio)) support[i] += weight;
-          }
-        }
-        double best = 0.0;
+    // A decisive vote (the winning surface has kVoteDecisiveRatio times the support of any
+    // other) stands for the next kVoteReusePixels pixels of the same triangle row: the k
+    // nearest returns of neighbouring pixels are nearly the same, and the queries were the
+    // largest cost of the dense mode. Near a close vote every pixel queries.
+    thread_local VoteMemory memory;
+    if (memory.frame == frame && memory.triangle == &t && pixel == memory.pixel + 1 &&
+        pixel % static_cast<std::size_t>(cols) != 0 && memory.reuses_left > 0) {
+      j = memory.winner;
+      --memory.reuses_left;
+      memory.pixel = pixel;
+    } else {
+      j = nearestVertex(t, az, el);
+      thread_local std::vector<std::pair<double, int>> nearest;
+      voteNeighbours(frame, pixel, az, el, g.surface_k, bins, angles, nearest);
+      // Each neighbour's weight and depth once (not once per vertex); each support still
+      // sums its neighbours nearest first.
+      double support[3] = {0.0, 0.0, 0.0};
+      for (const auto& nn : nearest) {
+        const double weight = 1.0 / (nn.first + kVoteDistanceFloorDeg2);
+        const double depth = usable[nn.second].depth;
         for (int i = 0; i < 3; ++i) {
-          if (support[i] > best) {
-            best = support[i];
-            j = i;
-          }
+          if (depthsWithinRatio(depth, t.z[i], ratio)) support[i] += weight;
         }
-        double rival = 0.0;
-        for (int i = 0; i < 3; ++i) {
-          if (!v.same[i][j]) rival = std::max(rival, support[i]);
-        }
-        const bool decisive = best > 0.0 && best >= kVoteDecisiveRatio * rival;
-        memory = {frame, &t, pixel, j, decisive ? kVoteReusePixels : 0};
       }
+      double best = 0.0;
+      for (int i = 0; i < 3; ++i) {
+        if (support[i] > best) {
+          best = support[i];
+          j = i;
+        }
+      }
+      double rival = 0.0;
+      for (int i = 0; i < 3; ++i) {
+        if (!v.same[i][j]) rival = std::max(rival, support[i]);
+      }
+      const bool decisive = best > 0.0 && best >= kVoteDecisiveRatio * rival;
+      memory = {frame, &t, pixel, j, decisive ? kVoteReusePixels : 0};
     }
     double weight = 0.0, inverse = 0.0;
     for (int i = 0; i < 3; ++i) {
@@ -824,7 +822,7 @@ void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionPar
       inverse = 1.0 / t.z[j];
     }
     double mean = weight / inverse;
-    if (v.edge && v.ground[j]) mean = groundAcrossEdge(t, v, l, pixel, cols, angles, plane, mean);
+    if (v.ground[j]) mean = groundAcrossEdge(t, v, l, pixel, cols, angles, plane, mean);
     // The surface's own uncertainty, plus the spread of all three depths: ~0 inside a surface,
     // the step height across an occlusion edge, where the pixel may belong to the other side.
     double spread = 0.0;
