@@ -225,13 +225,12 @@ nvs_model_runs() {
       if try_json "$prefix.depth.json" "$TOOLS/complete_depth" --vod-root "$root" --frame "$fid" \
         --sensor "$input" --model "$model" $(model_args "$model" "$input" all) \
         --retain-percent "$retain" --threads "$THREADS" --output "$prefix"; then
-        render_nvs "$prefix" "$root/lidar/training/image_2/$fid.jpg" \
-          "$root/$input/training/calib/$fid.txt" "$root" "$first" "$last" "$h" "$w"
-        if [[ -n "$also" ]]; then
+        local pose
+        for pose in "" ${also:+"$also"}; do
           render_nvs "$prefix" "$root/lidar/training/image_2/$fid.jpg" \
             "$root/$input/training/calib/$fid.txt" "$root" "$first" "$last" "$h" "$w" \
-            "$also" "$prefix.$also"
-        fi
+            "$pose" "$prefix${pose:+.$pose}"
+        done
       fi
       rm -f "${prefix}_depth.npy" "${prefix}_variance.npy" "${prefix}_valid.npy"
     done

@@ -418,25 +418,23 @@ def suite_tables(suite, raw, label, truth, notes):
         tables.append(table)
     # Novel view (no exact depth on real data, so no oracle row here).
     nvs_dir = os.path.join(d, "nvs")
-    rows = []
-    size = None
-    for model in MODEL_NAMES:
-        for percent in (40, 60, 80, 100):
-            run = nvs_run(os.path.join(nvs_dir, "radar_%s_%d" % (model, percent)))
-            if run is None:
-                continue
-            size = run["size"] or size
-            rows.append(([MODEL_NAMES[model], "%d %%" % percent] + nvs_cells(run),
-                         dict(model=model, retain_percent=percent, **run)))
-    # The same depths along the odometry poses (eval.sh renders VoD along both).
-    odom_rows = []
-    for model in MODEL_NAMES:
-        for percent in (40, 60, 80, 100):
-            prefix = os.path.join(nvs_dir, "radar_%s_%d" % (model, percent))
-            run = nvs_run(prefix + ".odomToCamera", prefix)
-            if run is not None:
-                odom_rows.append(([MODEL_NAMES[model], "%d %%" % percent] + nvs_cells(run),
+
+    def radar_nvs_rows(suffix):
+        """(cells, record) per model and retention of the renders PREFIX + suffix."""
+        found = []
+        for model in MODEL_NAMES:
+            for percent in (40, 60, 80, 100):
+                prefix = os.path.join(nvs_dir, "radar_%s_%d" % (model, percent))
+                run = nvs_run(prefix + suffix, prefix)
+                if run is not None:
+                    found.append(([MODEL_NAMES[model], "%d %%" % percent] + nvs_cells(run),
                                   dict(model=model, retain_percent=percent, **run)))
+        return found
+
+    rows = radar_nvs_rows("")
+    size = next((r["size"] for _, r in reversed(rows) if r["size"]), None)
+    # The same depths along the odometry poses (eval.sh renders VoD along both).
+    odom_rows = radar_nvs_rows(".odomToCamera")
     if rows:
         reference = "08350, trajectory 08350–08365" if suite == "vod" else "00000"
         table = Table("%s_nvs" % suite, "%s: novel view from radar depth" % label,
