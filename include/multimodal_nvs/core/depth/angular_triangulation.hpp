@@ -121,11 +121,10 @@ inline void barycentricRow(const AngularTriangle& t, const float* __restrict az,
 }
 
 /// One row of one triangle's box for rasterizeTriangleRows()'s callback: pixels [col0, col0 +
-/// width) of grid row `row` (offset `row_offset` = row * cols in grid vectors), their angles
+/// width) of the grid row that starts at `row_offset` (row * cols) in grid vectors, their angles
 /// (`az[c]`, `el[c]` for column c) and, per box pixel i (column col0 + i), the barycentric
 /// coordinates l1s[i], l2s[i] and whether it lies inside the triangle.
 struct TriangleBoxRow {
-  int row = 0;
   int col0 = 0;
   int width = 0;
   std::size_t row_offset = 0;
@@ -188,7 +187,7 @@ void rasterizeTriangleRows(const std::vector<AngularTriangle>& triangles,
         // test runs on the whole row of the box at once (it vectorises) before any pixel is
         // written.
         barycentricRow(t, az + t.col0, el + t.col0, width, l1s.data(), l2s.data(), inside.data());
-        f(t, TriangleBoxRow{r, t.col0, width, row, az, el, l1s.data(), l2s.data(), inside.data()},
+        f(t, TriangleBoxRow{t.col0, width, row, az, el, l1s.data(), l2s.data(), inside.data()},
           filled.data() + row);
       }
     }
