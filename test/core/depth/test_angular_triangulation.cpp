@@ -312,7 +312,9 @@ TEST(AngularTriangulation, RasterisedRowsEqualAPerPixelScanOfEveryTriangle) {
       }
       ASSERT_EQ(winner[pixel], expected) << r << " " << c;
       EXPECT_EQ(bool(filled[pixel]), expected >= 0);
-      if (expected >= 0) EXPECT_EQ(l1_at[pixel], expected_l1);
+      if (expected >= 0) {
+        EXPECT_EQ(l1_at[pixel], expected_l1);
+      }
       filled_count += expected >= 0;
     }
   }
