@@ -1,12 +1,51 @@
 #include "multimodal_nvs/core/depth/gp/length_scale_search.hpp"
 
+#include <immintrin.h>
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace multimodal_nvs {
 namespace {
 constexpr double kLog2Pi = 1.8378770664093454835606594728112;
+
+// The lanes' square roots and divisions as single vector instructions: written as loops over the
+// lanes GCC 12 keeps them scalar, a chain of long latencies per Cholesky pivot (each lane's value
+// is the same: both are correctly rounded IEEE operations either way).
+inline void squareRoots(const double* in, double* out) {
+#ifdef __AVX512F__
+  _mm512_storeu_pd(out, _mm512_sqrt_pd(_mm512_loadu_pd(in)));
+#else
+  for (int lane = 0; lane < 8; ++lane)
+    out[lane] = std::sqrt(in[lane]);
+#endif
+}
+inline void squareRoots(const float* in, float* out) {
+#ifdef __AVX512F__
+  _mm512_storeu_ps(out, _mm512_sqrt_ps(_mm512_loadu_ps(in)));
+#else
+  for (int lane = 0; lane < 16; ++lane)
+    out[lane] = std::sqrt(in[lane]);
+#endif
+}
+/// out[lane] = a[lane] / b[lane]
+inline void quotients(const double* a, const double* b, double* out) {
+#ifdef __AVX512F__
+  _mm512_storeu_pd(out, _mm512_div_pd(_mm512_loadu_pd(a), _mm512_loadu_pd(b)));
+#else
+  for (int lane = 0; lane < 8; ++lane)
+    out[lane] = a[lane] / b[lane];
+#endif
+}
+inline void quotients(const float* a, const float* b, float* out) {
+#ifdef __AVX512F__
+  _mm512_storeu_ps(out, _mm512_div_ps(_mm512_loadu_ps(a), _mm512_loadu_ps(b)));
+#else
+  for (int lane = 0; lane < 16; ++lane)
+    out[lane] = a[lane] / b[lane];
+#endif
+}
 }  // namespace
 
 template <typename Scalar>
@@ -56,6 +95,7 @@ void BasicLengthScaleSearch<Scalar>::negLogMarginalLikelihood(const double* leng
   // Row-oriented Cholesky with reciprocal pivots, lane-parallel; a failed lane keeps going on a
   // harmless pivot of 1 and reports +inf.
   bool failed[L] = {false};
+  constexpr Scalar kLargest = std::numeric_limits<Scalar>::max();  // not finite above it
   Scalar inverse_diag[kMaxBatchedSize][L];
   Scalar* row_i = k_.data();
   for (int i = 0; i < n; ++i) {
@@ -81,15 +121,17 @@ void BasicLengthScaleSearch<Scalar>::negLogMarginalLikelihood(const double* leng
       for (int lane = 0; lane < L; ++lane)
         diag[lane] -= row_i[k * L + lane] * row_i[k * L + lane];
     }
+    Scalar safe[L];
     for (int lane = 0; lane < L; ++lane) {
-      if (!(diag[lane] > Scalar(0)) || !std::isfinite(diag[lane])) {
-        failed[lane] = true;
-        diag[lane] = Scalar(1);
-      }
-      const Scalar pivot = std::sqrt(diag[lane]);
-      row_i[i * L + lane] = pivot;
-      inverse_diag[i][lane] = Scalar(1) / pivot;
+      const bool good = diag[lane] > Scalar(0) && diag[lane] <= kLargest;
+      failed[lane] = failed[lane] || !good;
+      safe[lane] = good ? diag[lane] : Scalar(1);
     }
+    Scalar* pivot = row_i + std::size_t(i) * L;
+    squareRoots(safe, pivot);
+    Scalar one[L];
+    std::fill_n(one, L, Scalar(1));
+    quotients(one, pivot, inverse_diag[i]);
     row_i += (i + 1) * L;
   }
 
@@ -109,12 +151,11 @@ void BasicLengthScaleSearch<Scalar>::negLogMarginalLikelihood(const double* leng
       for (int lane = 0; lane < L; ++lane)
         sum[lane] -= row[k * L + lane] * z_[std::size_t(k) * L + lane];
     }
+    Scalar* z = z_.data() + std::size_t(i) * L;
+    quotients(sum, row + std::size_t(i) * L, z);
     for (int lane = 0; lane < L; ++lane) {
-      const Scalar pivot = row[i * L + lane];
-      const Scalar z = sum[lane] / pivot;
-      z_[std::size_t(i) * L + lane] = z;
-      quad[lane] += z * z;
-      product[lane] *= pivot;
+      quad[lane] += z[lane] * z[lane];
+      product[lane] *= row[i * L + lane];
     }
     if ((i & 15) == 15) {
       for (int lane = 0; lane < L; ++lane) {
