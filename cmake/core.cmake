@@ -38,17 +38,14 @@ set(MMNVS_FUSED_MULTIPLY_ADD_SOURCES src/core/depth/gp/gp_prediction.cpp
 # reads the FP status flags; results are unchanged). The bilateral filter's column loop (NaN rules,
 # a branch-free exponential) and ipbasic's output pass vectorise only under the same flag.
 set(MMNVS_NO_TRAPPING_MATH_SOURCES src/core/depth/models/ground_gp_model.cpp
-  src/core/common/bilateral_filter.cpp src/core/depth/models/ipbasic_model.cpp
-  src/core/depth/gp/length_scale_search.cpp)
+  src/core/common/bilateral_filter.cpp src/core/depth/models/ipbasic_model.cpp)
 mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -ffp-contract=fast
   SOURCES ${MMNVS_FUSED_MULTIPLY_ADD_SOURCES})
 mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -fno-trapping-math
   SOURCES ${MMNVS_NO_TRAPPING_MATH_SOURCES})
-# The exact distance transform's last step, sqrt of each row's squared distances, and the batched
-# length-scale search's Cholesky pivots vectorise only if sqrt need not set errno (their arguments
-# are never negative; results are unchanged).
-set(MMNVS_NO_MATH_ERRNO_SOURCES src/core/common/distance_transform.cpp
-  src/core/depth/gp/length_scale_search.cpp)
+# The exact distance transform's last step, sqrt of each row's squared distances, vectorises only
+# if sqrt need not set errno (its arguments are never negative; results are unchanged).
+set(MMNVS_NO_MATH_ERRNO_SOURCES src/core/common/distance_transform.cpp)
 mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -fno-math-errno
   SOURCES ${MMNVS_NO_MATH_ERRNO_SOURCES})
 # CGAL's filtered predicates (interval arithmetic) need -frounding-math. Only the file that uses
