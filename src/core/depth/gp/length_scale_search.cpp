@@ -10,23 +10,55 @@ namespace multimodal_nvs {
 namespace {
 constexpr double kLog2Pi = 1.8378770664093454835606594728112;
 
-// The lanes' square roots and divisions as single vector instructions: written as loops over the
-// lanes GCC 12 keeps them scalar, a chain of long latencies per Cholesky pivot (each lane's value
-// is the same: both are correctly rounded IEEE operations either way).
-inline void squareRoots(const double* in, double* out) {
+/// The same one lane at a time (builds without AVX-512).
+template <typename Scalar>
+[[maybe_unused]] void choleskyPivotsScalar(const Scalar* diag, Scalar* pivot, Scalar* inverse,
+                                           bool* failed, int lanes) {
+  for (int lane = 0; lane < lanes; ++lane) {
+    const bool good = diag[lane] > Scalar(0) && diag[lane] <= std::numeric_limits<Scalar>::max();
+    failed[lane] = failed[lane] || !good;
+    pivot[lane] = std::sqrt(good ? diag[lane] : Scalar(1));
+    inverse[lane] = Scalar(1) / pivot[lane];
+  }
+}
+
+// The lanes' Cholesky pivots and divisions as single vector instructions: written as loops over
+// the lanes GCC 12 keeps them scalar, a chain of long latencies per pivot, and a vector load of
+// values just stored lane by lane stalls on store forwarding. Each lane's value is the same as the
+// scalar code's (correctly rounded IEEE square root and division, the same comparisons).
+
+/// pivot = sqrt(diag) and inverse = 1 / pivot in every lane where diag is positive and finite;
+/// elsewhere the pivot is 1 and the lane is marked failed.
+inline void choleskyPivots(const double* diag, double* pivot, double* inverse, bool* failed) {
 #ifdef __AVX512F__
-  _mm512_storeu_pd(out, _mm512_sqrt_pd(_mm512_loadu_pd(in)));
-#else
+  const __m512d d = _mm512_loadu_pd(diag);
+  const __mmask8 good =
+      _mm512_cmp_pd_mask(d, _mm512_setzero_pd(), _CMP_GT_OQ) &
+      _mm512_cmp_pd_mask(d, _mm512_set1_pd(std::numeric_limits<double>::max()), _CMP_LE_OQ);
+  const __m512d one = _mm512_set1_pd(1.0);
+  const __m512d p = _mm512_sqrt_pd(_mm512_mask_blend_pd(good, one, d));
+  _mm512_storeu_pd(pivot, p);
+  _mm512_storeu_pd(inverse, _mm512_div_pd(one, p));
   for (int lane = 0; lane < 8; ++lane)
-    out[lane] = std::sqrt(in[lane]);
+    failed[lane] = failed[lane] || !((good >> lane) & 1);
+#else
+  choleskyPivotsScalar(diag, pivot, inverse, failed, 8);
 #endif
 }
-inline void squareRoots(const float* in, float* out) {
+inline void choleskyPivots(const float* diag, float* pivot, float* inverse, bool* failed) {
 #ifdef __AVX512F__
-  _mm512_storeu_ps(out, _mm512_sqrt_ps(_mm512_loadu_ps(in)));
-#else
+  const __m512 d = _mm512_loadu_ps(diag);
+  const __mmask16 good =
+      _mm512_cmp_ps_mask(d, _mm512_setzero_ps(), _CMP_GT_OQ) &
+      _mm512_cmp_ps_mask(d, _mm512_set1_ps(std::numeric_limits<float>::max()), _CMP_LE_OQ);
+  const __m512 one = _mm512_set1_ps(1.0f);
+  const __m512 p = _mm512_sqrt_ps(_mm512_mask_blend_ps(good, one, d));
+  _mm512_storeu_ps(pivot, p);
+  _mm512_storeu_ps(inverse, _mm512_div_ps(one, p));
   for (int lane = 0; lane < 16; ++lane)
-    out[lane] = std::sqrt(in[lane]);
+    failed[lane] = failed[lane] || !((good >> lane) & 1);
+#else
+  choleskyPivotsScalar(diag, pivot, inverse, failed, 16);
 #endif
 }
 /// out[lane] = a[lane] / b[lane]
@@ -95,7 +127,6 @@ void BasicLengthScaleSearch<Scalar>::negLogMarginalLikelihood(const double* leng
   // Row-oriented Cholesky with reciprocal pivots, lane-parallel; a failed lane keeps going on a
   // harmless pivot of 1 and reports +inf.
   bool failed[L] = {false};
-  constexpr Scalar kLargest = std::numeric_limits<Scalar>::max();  // not finite above it
   Scalar inverse_diag[kMaxBatchedSize][L];
   Scalar* row_i = k_.data();
   for (int i = 0; i < n; ++i) {
@@ -121,17 +152,7 @@ void BasicLengthScaleSearch<Scalar>::negLogMarginalLikelihood(const double* leng
       for (int lane = 0; lane < L; ++lane)
         diag[lane] -= row_i[k * L + lane] * row_i[k * L + lane];
     }
-    Scalar safe[L];
-    for (int lane = 0; lane < L; ++lane) {
-      const bool good = diag[lane] > Scalar(0) && diag[lane] <= kLargest;
-      failed[lane] = failed[lane] || !good;
-      safe[lane] = good ? diag[lane] : Scalar(1);
-    }
-    Scalar* pivot = row_i + std::size_t(i) * L;
-    squareRoots(safe, pivot);
-    Scalar one[L];
-    std::fill_n(one, L, Scalar(1));
-    quotients(one, pivot, inverse_diag[i]);
+    choleskyPivots(diag, row_i + std::size_t(i) * L, inverse_diag[i], failed);
     row_i += (i + 1) * L;
   }
 
