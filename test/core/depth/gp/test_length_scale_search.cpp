@@ -165,3 +165,57 @@ TEST(LengthScaleSearch, SingleSearchFindsAsLikelyALengthScale) {
 }
 
 }  // namespace
+
+namespace {
+
+/// A lane whose kernel is singular (two returns at the same angles, no noise) reports +inf, and
+/// its batch mates keep the likelihood they have without it.
+template <typename Search>
+void expectSingularLaneIsInfinite() {
+  mm::LocalGpParams gp;
+  gp.amplitude = 5.0;  // K = 25 [[1, 1], [1, 1]]: the second pivot is exactly 0
+  gp.noise = 0.0;
+  constexpr int kLanes = Search::kLanes;
+  constexpr int kSingular = 3;
+  const std::vector<float> spread_az = {-1.5f, 0.0f, 1.5f}, spread_el = {1.5f, -1.5f, 0.0f};
+  const std::vector<float> same_az = {0.5f, 0.5f, -1.0f}, same_el = {0.25f, 0.25f, 1.0f};
+  const std::vector<double> y = {-1.0, -2.0, -0.5};
+  const float* az[kLanes];
+  const float* el[kLanes];
+  const double* ys[kLanes];
+  for (int s = 0; s < kLanes; ++s) {
+    az[s] = s == kSingular ? same_az.data() : spread_az.data();
+    el[s] = s == kSingular ? same_el.data() : spread_el.data();
+    ys[s] = y.data();
+  }
+  Search search(gp);
+  search.load(3, kLanes, az, el, ys);
+  double length_scale[kLanes], nll[kLanes];
+  std::fill_n(length_scale, kLanes, 0.5);
+  search.negLogMarginalLikelihood(length_scale, nll);
+  Search alone(gp);
+  const float* one_az = spread_az.data();
+  const float* one_el = spread_el.data();
+  const double* one_y = y.data();
+  alone.load(3, 1, &one_az, &one_el, &one_y);
+  double alone_nll[kLanes];
+  alone.negLogMarginalLikelihood(length_scale, alone_nll);
+  ASSERT_TRUE(std::isfinite(alone_nll[0]));
+  for (int s = 0; s < kLanes; ++s) {
+    if (s == kSingular) {
+      EXPECT_TRUE(std::isinf(nll[s]) && nll[s] > 0.0) << nll[s];
+    } else {
+      EXPECT_EQ(nll[s], alone_nll[0]) << s;
+    }
+  }
+}
+
+}  // namespace
+
+TEST(LengthScaleSearch, SingularLaneIsInfiniteAndAloneDouble) {
+  expectSingularLaneIsInfinite<mm::LengthScaleSearch>();
+}
+
+TEST(LengthScaleSearch, SingularLaneIsInfiniteAndAloneSingle) {
+  expectSingularLaneIsInfinite<mm::SingleLengthScaleSearch>();
+}
