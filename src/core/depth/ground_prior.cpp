@@ -24,16 +24,38 @@ Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg) {
   return {std::tan(az), -std::tan(el) / std::cos(az)};
 }
 
+namespace {
+/// One row of a pinhole camera's ground prior from its columns' x (a function of its own with
+/// restrict pointers so that it vectorises).
+void groundPriorRow(const double* __restrict xs, int cols, double up_x, double up_y, double up_z,
+                    double height, double far_depth, float* __restrict row) {
+  for (int c = 0; c < cols; ++c) {
+    const double descent = up_x * xs[c] + up_y + up_z;
+    const double depth = descent < 0.0 ? -height / descent : INFINITY;
+    row[c] = static_cast<float>(std::min(depth, far_depth));
+  }
+}
+}  // namespace
+
 std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
-                                    double far_depth) {
+                                    double far_depth, ThreadPool* pool) {
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
   std::vector<float> prior(static_cast<std::size_t>(grid.size()));
+  const auto for_each_row = [&](const auto& row_pass) {
+    if (pool != nullptr) {
+      pool->parallelFor(
+          rows, [&](long long r, int) { row_pass(static_cast<int>(r)); }, 16);
+    } else {
+      for (int r = 0; r < rows; ++r)
+        row_pass(r);
+    }
+  };
   if (angles.distorted()) {
-    for (int r = 0; r < rows; ++r) {
+    for_each_row([&](int r) {
       for (int c = 0; c < cols; ++c)
         prior[std::size_t(r) * cols + c] = groundPriorDepthAt(angles, plane, r, c, far_depth);
-    }
+    });
     return prior;
   }
   // A pinhole camera's rays are separable (a column's x, a row's y): groundPriorDepthAt's
@@ -45,16 +67,11 @@ std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPl
   for (int c = 0; c < cols; ++c)
     column_x[c] = (c * stride - k.cx) / k.fx;
   const double up_x = plane.up.x(), up_z = plane.up.z(), height = plane.height;
-  for (int r = 0; r < rows; ++r) {
+  for_each_row([&](int r) {
     const double up_y = plane.up.y() * ((r * stride - k.cy) / k.fy);
-    const double* __restrict const xs = column_x.data();
-    float* __restrict const row = prior.data() + std::size_t(r) * cols;
-    for (int c = 0; c < cols; ++c) {
-      const double descent = up_x * xs[c] + up_y + up_z;
-      const double depth = descent < 0.0 ? -height / descent : INFINITY;
-      row[c] = static_cast<float>(std::min(depth, far_depth));
-    }
-  }
+    groundPriorRow(column_x.data(), cols, up_x, up_y, up_z, height, far_depth,
+                   prior.data() + std::size_t(r) * cols);
+  });
   return prior;
 }
 

@@ -33,9 +33,9 @@ struct GroundPlane {
 Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg);
 
 /// The prior depth of every grid pixel: ground depth below the horizon, capped at `far_depth`
-/// (also above the horizon, where there is no ground).
+/// (also above the horizon, where there is no ground). Rows on `pool` when given.
 std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
-                                    double far_depth);
+                                    double far_depth, ThreadPool* pool = nullptr);
 /// groundPriorDepth of one grid pixel (row r, column c), the same arithmetic: for passes that need
 /// the ground at some pixels only. Inline: such passes call it for a million pixels.
 inline float groundPriorDepthAt(const PixelAngleGrid& angles, const GroundPlane& plane, int r,

@@ -210,6 +210,17 @@ void smoothSums(const cv::Mat& guide, const ImageGuidedParams& g, double lambda,
     cv::resize(coarse_sums[k], sums[k], sums[k].size(), 0, 0, cv::INTER_LINEAR);
 }
 
+/// prior[c] = min(model[c], far) wherever the model's depth is positive and finite. A function of
+/// its own with restrict pointers so that it vectorises (in the row lambda it stayed scalar).
+void takeOverModelPrior(const float* __restrict model, float far, int cols,
+                        float* __restrict prior) {
+  for (int c = 0; c < cols; ++c) {
+    const float d = model[c];
+    const bool usable = d > 0.0f && isFiniteVectorisable(d);
+    prior[c] = usable ? minOf(d, far) : prior[c];
+  }
+}
+
 /// One row of the evidence sums (w, w x, w x^2; x = 1 / depth): the prior's evidence at every
 /// pixel, a return's (weight 1) added where one fell. Branch-free so that it vectorises; the same
 /// arithmetic as adding under an `if`.
@@ -283,9 +294,9 @@ void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGr
                    const ImageGuidedParams& g, const GroundPlane& plane, const cv::Mat& image,
                    ThreadPool& pool, PixelPredictions& out) {
   const float far = static_cast<float>(g.far_depth);
-  const std::vector<std::uint8_t> sky =
-      skyMaskOf(guideOnGrid(image, angles.grid()), groundPriorDepth(angles, plane, g.far_depth),
-                topReturnRows(samples, angles, g.splat_radius_px), g, pool);
+  const std::vector<std::uint8_t> sky = skyMaskOf(
+      guideOnGrid(image, angles.grid()), groundPriorDepth(angles, plane, g.far_depth, &pool),
+      topReturnRows(samples, angles, g.splat_radius_px), g, pool);
   const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
   for (std::size_t i = 0; i < sky.size(); ++i) {
     if (!sky[i]) continue;
@@ -305,7 +316,7 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   const cv::Mat guide = guideOnGrid(image, grid);
   const float far = static_cast<float>(g.far_depth);
 
-  std::vector<float> prior = g.ground_prior ? groundPriorDepth(angles, plane, g.far_depth)
+  std::vector<float> prior = g.ground_prior ? groundPriorDepth(angles, plane, g.far_depth, &pool)
                                             : std::vector<float>(n, medianDepth(samples));
   const ReturnRaster returns = rasterReturns(samples, angles, g.splat_radius_px);
   std::vector<std::uint8_t> sky;
@@ -331,17 +342,23 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   // prior (radar, 100 % kept, MAE m: Astyx 5.02 at stride 1, 6.72 at stride 2; now 5.02 at both).
   const double grid_pixel_area = double(grid.stride) * grid.stride;
   const float prior_weight = static_cast<float>(g.prior_weight * grid_pixel_area);
+  std::vector<std::vector<float>> sky_priors(
+      model_prior != nullptr && !sky.empty() ? pool.size() : 0, std::vector<float>(cols));
   pool.parallelFor(
       rows,
-      [&](long long row, int) {
+      [&](long long row, int worker) {
         const int r = static_cast<int>(row);
         if (model_prior != nullptr) {
-          // The sky keeps the far clamp as its evidence, so that it does not pull its edge nearer.
+          // The sky keeps its own prior (the far clamp) as its evidence, so that it does not pull
+          // its edge nearer: its pixels are put back after the (vectorised) take-over.
           const std::size_t begin = std::size_t(r) * cols;
-          for (std::size_t i = begin; i < begin + cols; ++i) {
-            const float d = model_prior->mean[i];
-            if ((sky.empty() || !sky[i]) && d > 0.0f && std::isfinite(d))
-              prior[i] = std::min(d, far);
+          float* prior_row = prior.data() + begin;
+          const std::uint8_t* sky_row = sky.empty() ? nullptr : sky.data() + begin;
+          float* kept = sky_row != nullptr ? sky_priors[worker].data() : nullptr;
+          if (kept != nullptr) std::copy(prior_row, prior_row + cols, kept);
+          takeOverModelPrior(model_prior->mean.data() + begin, far, cols, prior_row);
+          for (int c = 0; kept != nullptr && c < cols; ++c) {
+            if (sky_row[c]) prior_row[c] = kept[c];
           }
         }
         evidenceRow(prior.data() + std::size_t(r) * cols,

@@ -47,6 +47,9 @@ TEST(GroundPrior, PixelPriorIsGroundBelowTheHorizonAndFarAbove) {
   const auto prior = mm::groundPriorDepth(angles, plane, 50.0);
   EXPECT_NEAR(prior[std::size_t(100) * 160 + 7], 2.0 / ((100 - 60) / 100.0), 1e-4);
   EXPECT_EQ(prior[std::size_t(10) * 160 + 7], 50.0f);
+  // Rows on a pool: the same values.
+  mm::ThreadPool pool(2);
+  EXPECT_EQ(mm::groundPriorDepth(angles, plane, 50.0, &pool), prior);
 }
 
 TEST(GroundPrior, NearestSurfaceTakesTheRankedDepthAmongTheNearestSamples) {
