@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <new>
 #include <stdexcept>
 
 namespace multimodal_nvs {
@@ -75,8 +76,13 @@ void lookUp(const float* __restrict table, const int* __restrict index, int coun
 
 struct Weights {
   // Between (r, c) and (r, c + 1), 0 in the last column, in lanes: block b of rows [8b, 8b + 8)
-  // holds columns [b * cols, (b + 1) * cols); rows past the image are 0. Floats, read as Lanes.
-  SimdVector<float> horizontal;
+  // holds columns [b * cols, (b + 1) * cols); rows past the image are 0. Every lane is written
+  // (rowsToLanes pads the last block), so the buffer is not zeroed first (9 MB at VoD's size).
+  struct AlignedDelete {
+    void operator()(float* p) const { ::operator delete[](p, std::align_val_t{64}); }
+  };
+  std::unique_ptr<float[], AlignedDelete> horizontal;
+  Lanes* horizontalLanes() const { return reinterpret_cast<Lanes*>(horizontal.get()); }
   cv::Mat vertical;  // (r, c): between (r, c) and (r + 1, c); 0 in the last row
 };
 
@@ -85,14 +91,16 @@ Weights edgeWeights(const cv::Mat& guide, float sigma, ThreadPool& pool) {
   const float* table = cached_table->data();
   const int rows = guide.rows, cols = guide.cols;
   const int blocks = (rows + kLaneCount - 1) / kLaneCount;
-  Weights w{SimdVector<float>(std::size_t(blocks) * cols * kLaneCount),
+  const std::size_t lane_floats = std::size_t(blocks) * cols * kLaneCount;
+  Weights w{decltype(Weights::horizontal)(static_cast<float*>(
+                ::operator new[](lane_floats * sizeof(float), std::align_val_t{64}))),
             cv::Mat(rows, cols, CV_32F)};
   // Per worker: a row's squared distances to the right and below, a block's horizontal weights.
   std::vector<std::vector<int>> distances(pool.size(), std::vector<int>(2 * std::size_t(cols)));
   std::vector<std::vector<float>> block_rows(pool.size(),
                                              std::vector<float>(kLaneCount * std::size_t(cols)));
   pool.parallelFor(blocks, [&](long long b, int worker) {
-    Lanes* lanes = reinterpret_cast<Lanes*>(w.horizontal.data()) + std::size_t(b) * cols;
+    Lanes* lanes = w.horizontalLanes() + std::size_t(b) * cols;
     // The squared distances first (a loop that vectorises), then the table look-ups; the block's
     // horizontal weights row by row, then transposed into lanes.
     int* right = distances[worker].data();
@@ -141,7 +149,7 @@ void horizontalBlocks(const Weights& w, float* const* planes, int rows, int cols
       rowsToLanes(planes[p] + std::size_t(r0) * cols, cols, row_count[j], cols, row[j][p]);
     }
     ratio[j] = ratio_scratch + std::size_t(j) * cols;
-    weight[j] = reinterpret_cast<const Lanes*>(w.horizontal.data()) + std::size_t(b + j) * cols;
+    weight[j] = w.horizontalLanes() + std::size_t(b + j) * cols;
   }
   Lanes previous[kBlocks], last_ratio[kBlocks], last[kBlocks][kPlanes];
   for (int j = 0; j < kBlocks; ++j) {
