@@ -18,6 +18,7 @@
 
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/global_smoother.hpp"
+#include "multimodal_nvs/core/common/mask_scan.hpp"
 #include "multimodal_nvs/core/common/vectorisable_math.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/nearest_model.hpp"
@@ -280,11 +281,11 @@ void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict su
     variance[c] = v;
   }
   // Apart: with the byte-wide mask in the loop above GCC 12 vectorises neither.
-  for (int c = 0; sky != nullptr && c < cols; ++c) {
-    if (sky[c]) {
+  if (sky != nullptr) {
+    forEachSetByte(sky, cols, [&](int c) {
       mean[c] = e.far;
       variance[c] = e.sky_variance;
-    }
+    });
   }
 }
 
@@ -357,9 +358,8 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
           float* kept = sky_row != nullptr ? sky_priors[worker].data() : nullptr;
           if (kept != nullptr) std::copy(prior_row, prior_row + cols, kept);
           takeOverModelPrior(model_prior->mean.data() + begin, far, cols, prior_row);
-          for (int c = 0; kept != nullptr && c < cols; ++c) {
-            if (sky_row[c]) prior_row[c] = kept[c];
-          }
+          if (kept != nullptr)
+            forEachSetByte(sky_row, cols, [&](int c) { prior_row[c] = kept[c]; });
         }
         evidenceRow(prior.data() + std::size_t(r) * cols,
                     returns.depth.data() + std::size_t(r) * cols, far, prior_weight, cols,
