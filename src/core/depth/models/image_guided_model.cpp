@@ -299,11 +299,10 @@ void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGr
       guideOnGrid(image, angles.grid()), groundPriorDepth(angles, plane, g.far_depth, &pool),
       topReturnRows(samples, angles, g.splat_radius_px), g, pool);
   const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
-  for (std::size_t i = 0; i < sky.size(); ++i) {
-    if (!sky[i]) continue;
+  forEachSetByte(sky.data(), static_cast<int>(sky.size()), [&](int i) {
     out.mean[i] = far;
     out.variance[i] = sky_variance;
-  }
+  });
 }
 
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
