@@ -5,6 +5,16 @@
 
 namespace multimodal_nvs {
 
+void parallelForOrInline(ThreadPool* pool, long long count,
+                         const std::function<void(long long, int)>& body, long long chunk) {
+  if (pool != nullptr) {
+    pool->parallelFor(count, body, chunk);
+    return;
+  }
+  for (long long i = 0; i < count; ++i)
+    body(i, 0);
+}
+
 int resolveThreadCount(int requested) {
   if (requested > 0) return requested;
   return std::max(1u, std::thread::hardware_concurrency());

@@ -42,20 +42,15 @@ std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPl
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
   std::vector<float> prior(static_cast<std::size_t>(grid.size()));
-  const auto for_each_row = [&](const auto& row_pass) {
-    if (pool != nullptr) {
-      pool->parallelFor(
-          rows, [&](long long r, int) { row_pass(static_cast<int>(r)); }, 16);
-    } else {
-      for (int r = 0; r < rows; ++r)
-        row_pass(r);
-    }
-  };
   if (angles.distorted()) {
-    for_each_row([&](int r) {
-      for (int c = 0; c < cols; ++c)
-        prior[std::size_t(r) * cols + c] = groundPriorDepthAt(angles, plane, r, c, far_depth);
-    });
+    parallelForOrInline(
+        pool, rows,
+        [&](long long r, int) {
+          for (int c = 0; c < cols; ++c)
+            prior[std::size_t(r) * cols + c] =
+                groundPriorDepthAt(angles, plane, int(r), c, far_depth);
+        },
+        16);
     return prior;
   }
   // A pinhole camera's rays are separable (a column's x, a row's y): groundPriorDepthAt's
@@ -67,11 +62,14 @@ std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPl
   for (int c = 0; c < cols; ++c)
     column_x[c] = (c * stride - k.cx) / k.fx;
   const double up_x = plane.up.x(), up_z = plane.up.z(), height = plane.height;
-  for_each_row([&](int r) {
-    const double up_y = plane.up.y() * ((r * stride - k.cy) / k.fy);
-    groundPriorRow(column_x.data(), cols, up_x, up_y, up_z, height, far_depth,
-                   prior.data() + std::size_t(r) * cols);
-  });
+  parallelForOrInline(
+      pool, rows,
+      [&](long long r, int) {
+        const double up_y = plane.up.y() * ((r * stride - k.cy) / k.fy);
+        groundPriorRow(column_x.data(), cols, up_x, up_y, up_z, height, far_depth,
+                       prior.data() + std::size_t(r) * cols);
+      },
+      16);
   return prior;
 }
 

@@ -46,17 +46,6 @@ inline std::uint32_t bitsOf(float v) {
   return b;
 }
 
-// Runs body(chunk, worker) over the chunks: on the pool, or inline without one.
-template <typename Body>
-void forChunks(ThreadPool* pool, long long chunks, const Body& body) {
-  if (pool == nullptr) {
-    for (long long c = 0; c < chunks; ++c)
-      body(c, 0);
-  } else {
-    pool->parallelFor(chunks, body);
-  }
-}
-
 struct ChunkRange {
   std::size_t begin, end;
 };
@@ -342,7 +331,7 @@ long long VarianceSelection::select(long long keep_count, const float* variance,
   for (int w = 0; w < runs.size(); ++w)
     runs[w].reserve(static_cast<std::size_t>(std::min<long long>(in_bucket, kChunk)));
   std::vector<RunRange> chunk_runs(chunks_);
-  forChunks(pool, chunks_, [&](long long c, int worker) {
+  parallelForOrInline(pool, chunks_, [&](long long c, int worker) {
     const ChunkRange r = chunkRange(c, n_);
     std::vector<Run>& out = runs[worker];
     chunk_runs[c] = {static_cast<std::size_t>(worker), out.size(), 0};
@@ -356,7 +345,7 @@ long long VarianceSelection::select(long long keep_count, const float* variance,
   // The next digit among the runs whose key starts with `prefix`.
   const auto nextDigit = [&](std::uint32_t prefix, int shift) {
     std::vector<char> used(workers_, 0);  // each worker writes its own entry
-    forChunks(pool, chunks_, [&](long long c, int worker) {
+    parallelForOrInline(pool, chunks_, [&](long long c, int worker) {
       const RunRange& rr = chunk_runs[c];
       if (rr.begin == rr.end) return;
       std::uint32_t* const h = histograms_.get() + worker * kSub * kStride1;
@@ -378,7 +367,7 @@ long long VarianceSelection::select(long long keep_count, const float* variance,
   // Ties at the threshold fill the remaining quota in index order: count them per chunk, then
   // find the index just past the last tie kept.
   std::vector<long long> ties(chunks_, 0);
-  forChunks(pool, chunks_, [&](long long c, int) {
+  parallelForOrInline(pool, chunks_, [&](long long c, int) {
     long long t = 0;
     for (std::size_t k = chunk_runs[c].begin; k < chunk_runs[c].end; ++k) {
       const Run& run = runsOf(c)[k];
@@ -415,11 +404,12 @@ long long VarianceSelection::mark(long long chunk, const float* variance,
 long long keepLowestVariance(const float* variance, const std::uint8_t* candidate, std::size_t n,
                              long long keep_count, std::uint8_t* kept, ThreadPool* pool) {
   VarianceSelection selection(n, pool == nullptr ? 1 : pool->size());
-  forChunks(pool, selection.chunks(),
-            [&](long long c, int worker) { selection.count(c, worker, variance, candidate); });
+  parallelForOrInline(pool, selection.chunks(), [&](long long c, int worker) {
+    selection.count(c, worker, variance, candidate);
+  });
   const long long kept_count = selection.select(keep_count, variance, candidate, pool);
-  forChunks(pool, selection.chunks(),
-            [&](long long c, int) { selection.mark(c, variance, candidate, kept); });
+  parallelForOrInline(pool, selection.chunks(),
+                      [&](long long c, int) { selection.mark(c, variance, candidate, kept); });
   return kept_count;
 }
 

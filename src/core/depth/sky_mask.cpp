@@ -30,15 +30,6 @@ inline int reflect101(int i, int length) {
   return i;
 }
 
-void forEachTask(ThreadPool* pool, long long count, const std::function<void(long long)>& body) {
-  if (pool == nullptr) {
-    for (long long i = 0; i < count; ++i)
-      body(i);
-    return;
-  }
-  pool->parallelFor(count, [&](long long i, int) { body(i); });
-}
-
 /// first[c] = the first row of [r0, r1) whose prior is nearer than `far`, if it is before
 /// first[c]. Branch-free so that it vectorises.
 void firstNearerRows(const float* __restrict prior, int cols, int r0, int r1, float far,
@@ -131,7 +122,7 @@ std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>
       std::min(rows, *std::max_element(top_return_row.begin(), top_return_row.end()));
   const int bands = (scan_rows + kBandRows - 1) / kBandRows;
   std::vector<int> band_first(std::size_t(bands) * cols, kNoRow);
-  forEachTask(pool, bands, [&](long long band) {
+  parallelForOrInline(pool, bands, [&](long long band, int) {
     const int r0 = static_cast<int>(band) * kBandRows;
     firstNearerRows(prior.data(), cols, r0, std::min(scan_rows, r0 + kBandRows), far_depth,
                     band_first.data() + std::size_t(band) * cols);
@@ -148,14 +139,14 @@ std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>
   // gradient of the last row read needs the row below).
   const int gray_rows = std::min(rows, end_rows + 1);
   cv::Mat gray(gray_rows, cols, CV_8U);
-  forEachTask(pool, (gray_rows + kBandRows - 1) / kBandRows, [&](long long band) {
+  parallelForOrInline(pool, (gray_rows + kBandRows - 1) / kBandRows, [&](long long band, int) {
     const int r0 = static_cast<int>(band) * kBandRows;
     const int r1 = std::min(gray_rows, r0 + kBandRows);
     cv::Mat out = gray.rowRange(r0, r1);
     cv::cvtColor(guide.rowRange(r0, r1), out, cv::COLOR_BGR2GRAY);
   });
   const SkyTests tests(gradient, brightness, max_warmth);
-  forEachTask(pool, (cols + kStripColumns - 1) / kStripColumns, [&](long long strip) {
+  parallelForOrInline(pool, (cols + kStripColumns - 1) / kStripColumns, [&](long long strip, int) {
     const int c0 = static_cast<int>(strip) * kStripColumns;
     const int c1 = std::min(cols, c0 + kStripColumns);
     // The strip's columns off the image's border, where the tests vectorise.

@@ -77,3 +77,19 @@ TEST(ThreadPool, ShutsDownWhetherItsWorkersSpinOrSleep) {
     EXPECT_EQ(sum.load(), 499500);
   }  // the destructor joins: a hang here is a lost wake-up
 }
+
+// Without a pool every index runs in order on the calling thread as worker 0; with one, every
+// index runs once.
+TEST(ThreadPool, ParallelForOrInlineRunsEveryIndexOnceWithOrWithoutAPool) {
+  std::vector<long long> order;
+  mm::parallelForOrInline(nullptr, 5, [&](long long i, int worker) {
+    EXPECT_EQ(worker, 0);
+    order.push_back(i);
+  });
+  EXPECT_EQ(order, (std::vector<long long>{0, 1, 2, 3, 4}));
+  mm::ThreadPool pool(2);
+  std::vector<int> hits(100, 0);
+  mm::parallelForOrInline(
+      &pool, 100, [&](long long i, int) { ++hits[std::size_t(i)]; }, 7);
+  EXPECT_EQ(hits, std::vector<int>(100, 1));
+}

@@ -57,4 +57,9 @@ class ThreadPool {
 
 int resolveThreadCount(int requested);
 
+/// pool->parallelFor(count, body, chunk), or, without a pool, every index in order on the calling
+/// thread as worker 0: for functions whose pool is optional.
+void parallelForOrInline(ThreadPool* pool, long long count,
+                         const std::function<void(long long, int)>& body, long long chunk = 1);
+
 }  // namespace multimodal_nvs
