@@ -4,79 +4,70 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace multimodal_nvs {
 namespace {
 constexpr double kLog2Pi = 1.8378770664093454835606594728112;
 
-/// The same one lane at a time (builds without AVX-512).
-template <typename Scalar>
-[[maybe_unused]] void choleskyPivotsScalar(const Scalar* diag, Scalar* pivot, Scalar* inverse,
-                                           bool* failed, int lanes) {
-  for (int lane = 0; lane < lanes; ++lane) {
-    const bool good = diag[lane] > Scalar(0) && diag[lane] <= std::numeric_limits<Scalar>::max();
-    failed[lane] = failed[lane] || !good;
-    pivot[lane] = std::sqrt(good ? diag[lane] : Scalar(1));
-    inverse[lane] = Scalar(1) / pivot[lane];
-  }
-}
-
-// The lanes' Cholesky pivots and divisions as single vector instructions: written as loops over
+// The lanes' Cholesky pivots and divisions as whole-register operations (GCC vector types,
+// element-wise IEEE, so each lane computes the scalar expression's bits): written as loops over
 // the lanes GCC 12 keeps them scalar, a chain of long latencies per pivot, and a vector load of
-// values just stored lane by lane stalls on store forwarding. Each lane's value is the same as the
-// scalar code's (correctly rounded IEEE square root and division, the same comparisons).
+// values just stored lane by lane stalls on store forwarding.
+
+/// One 64-byte register of Scalar (BasicLengthScaleSearch's lanes).
+template <typename Scalar>
+struct LaneRegister {
+  typedef Scalar Type __attribute__((vector_size(64)));
+};
+
+/// Each lane's correctly rounded square root, in place: one instruction with AVX-512 (GCC has no
+/// generic vector square root, and a lane loop stays scalar while sqrt may set errno). By
+/// reference: a 64-byte vector passed by value changes the ABI on builds without AVX-512.
+template <typename Scalar>
+void takeSquareRoots(typename LaneRegister<Scalar>::Type& v) {
+  using Register = typename LaneRegister<Scalar>::Type;
+#ifdef __AVX512F__
+  if constexpr (sizeof(Scalar) == sizeof(double)) {
+    v = reinterpret_cast<Register>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(v)));
+  } else {
+    v = reinterpret_cast<Register>(_mm512_sqrt_ps(reinterpret_cast<__m512>(v)));
+  }
+#else
+  for (int lane = 0; lane < int(sizeof(Register) / sizeof(Scalar)); ++lane)
+    v[lane] = std::sqrt(v[lane]);
+#endif
+}
 
 /// pivot = sqrt(diag) and inverse = 1 / pivot in every lane where diag is positive and finite;
 /// elsewhere the pivot is 1 and the lane is marked failed.
-inline void choleskyPivots(const double* diag, double* pivot, double* inverse, bool* failed) {
-#ifdef __AVX512F__
-  const __m512d d = _mm512_loadu_pd(diag);
-  const __mmask8 good =
-      _mm512_cmp_pd_mask(d, _mm512_setzero_pd(), _CMP_GT_OQ) &
-      _mm512_cmp_pd_mask(d, _mm512_set1_pd(std::numeric_limits<double>::max()), _CMP_LE_OQ);
-  const __m512d one = _mm512_set1_pd(1.0);
-  const __m512d p = _mm512_sqrt_pd(_mm512_mask_blend_pd(good, one, d));
-  _mm512_storeu_pd(pivot, p);
-  _mm512_storeu_pd(inverse, _mm512_div_pd(one, p));
-  for (int lane = 0; lane < 8; ++lane)
-    failed[lane] = failed[lane] || !((good >> lane) & 1);
-#else
-  choleskyPivotsScalar(diag, pivot, inverse, failed, 8);
-#endif
+template <typename Scalar>
+void choleskyPivots(const Scalar* diag, Scalar* pivot, Scalar* inverse, bool* failed) {
+  using Register = typename LaneRegister<Scalar>::Type;
+  constexpr int kLanes = sizeof(Register) / sizeof(Scalar);
+  Register d;
+  std::memcpy(&d, diag, sizeof d);
+  const auto good = (d > Scalar(0)) & (d <= std::numeric_limits<Scalar>::max());
+  const Register one = Register{} + Scalar(1);
+  Register p = good ? d : one;
+  takeSquareRoots<Scalar>(p);
+  const Register reciprocal = one / p;
+  std::memcpy(pivot, &p, sizeof p);
+  std::memcpy(inverse, &reciprocal, sizeof reciprocal);
+  for (int lane = 0; lane < kLanes; ++lane)
+    failed[lane] = failed[lane] || good[lane] == 0;
 }
-inline void choleskyPivots(const float* diag, float* pivot, float* inverse, bool* failed) {
-#ifdef __AVX512F__
-  const __m512 d = _mm512_loadu_ps(diag);
-  const __mmask16 good =
-      _mm512_cmp_ps_mask(d, _mm512_setzero_ps(), _CMP_GT_OQ) &
-      _mm512_cmp_ps_mask(d, _mm512_set1_ps(std::numeric_limits<float>::max()), _CMP_LE_OQ);
-  const __m512 one = _mm512_set1_ps(1.0f);
-  const __m512 p = _mm512_sqrt_ps(_mm512_mask_blend_ps(good, one, d));
-  _mm512_storeu_ps(pivot, p);
-  _mm512_storeu_ps(inverse, _mm512_div_ps(one, p));
-  for (int lane = 0; lane < 16; ++lane)
-    failed[lane] = failed[lane] || !((good >> lane) & 1);
-#else
-  choleskyPivotsScalar(diag, pivot, inverse, failed, 16);
-#endif
-}
+
 /// out[lane] = a[lane] / b[lane]
-inline void quotients(const double* a, const double* b, double* out) {
-#ifdef __AVX512F__
-  _mm512_storeu_pd(out, _mm512_div_pd(_mm512_loadu_pd(a), _mm512_loadu_pd(b)));
-#else
-  for (int lane = 0; lane < 8; ++lane)
-    out[lane] = a[lane] / b[lane];
-#endif
-}
-inline void quotients(const float* a, const float* b, float* out) {
-#ifdef __AVX512F__
-  _mm512_storeu_ps(out, _mm512_div_ps(_mm512_loadu_ps(a), _mm512_loadu_ps(b)));
-#else
-  for (int lane = 0; lane < 16; ++lane)
-    out[lane] = a[lane] / b[lane];
-#endif
+template <typename Scalar>
+void quotients(const Scalar* a, const Scalar* b, Scalar* out) {
+  using Register = typename LaneRegister<Scalar>::Type;
+  Register x, y;
+  std::memcpy(&x, a, sizeof x);
+  std::memcpy(&y, b, sizeof y);
+  const Register q = x / y;
+  std::memcpy(out, &q, sizeof q);
 }
 }  // namespace
 
