@@ -20,7 +20,6 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
-#include <new>
 #include <stdexcept>
 
 namespace multimodal_nvs {
@@ -78,10 +77,10 @@ struct Weights {
   // Between (r, c) and (r, c + 1), 0 in the last column, in lanes: block b of rows [8b, 8b + 8)
   // holds columns [b * cols, (b + 1) * cols); rows past the image are 0. Every lane is written
   // (rowsToLanes pads the last block), so the buffer is not zeroed first (9 MB at VoD's size).
-  struct AlignedDelete {
-    void operator()(float* p) const { ::operator delete[](p, std::align_val_t{64}); }
+  struct Release {  // the buffer comes from SimdVector's allocator, without construction
+    void operator()(float* p) const { AlignedAllocator<float>().deallocate(p, 0); }
   };
-  std::unique_ptr<float[], AlignedDelete> horizontal;
+  std::unique_ptr<float[], Release> horizontal;
   Lanes* horizontalLanes() const { return reinterpret_cast<Lanes*>(horizontal.get()); }
   cv::Mat vertical;  // (r, c): between (r, c) and (r + 1, c); 0 in the last row
 };
@@ -91,9 +90,8 @@ Weights edgeWeights(const cv::Mat& guide, float sigma, ThreadPool& pool) {
   const float* table = cached_table->data();
   const int rows = guide.rows, cols = guide.cols;
   const int blocks = (rows + kLaneCount - 1) / kLaneCount;
-  const std::size_t lane_floats = std::size_t(blocks) * cols * kLaneCount;
-  Weights w{decltype(Weights::horizontal)(static_cast<float*>(
-                ::operator new[](lane_floats * sizeof(float), std::align_val_t{64}))),
+  Weights w{decltype(Weights::horizontal)(
+                AlignedAllocator<float>().allocate(std::size_t(blocks) * cols * kLaneCount)),
             cv::Mat(rows, cols, CV_32F)};
   // Per worker: a row's squared distances to the right and below, a block's horizontal weights.
   std::vector<std::vector<int>> distances(pool.size(), std::vector<int>(2 * std::size_t(cols)));
