@@ -116,6 +116,36 @@ TEST(GroundPlaneEstimate, PreciseButSparseScatteredReturnsKeepTheSparseMode) {
   EXPECT_FALSE(choice.dense);
 }
 
+TEST(GroundPlaneEstimate, AFewDozenReturnsOnOnePlaneKeepTheGivenPlane) {
+  // The same road, every 3rd of those returns: still every one of them on the plane, but too few
+  // for a verdict of precision (among a few dozen scattered radar returns a quarter lies on some
+  // wrong plane by chance).
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::DepthCompletionParams params;
+  params.model = mm::DepthModel::kGroundGp;
+  const std::vector<Eigen::Vector3d> all = roadScan(1.7, 4.0, 8, 0.0);
+  std::vector<Eigen::Vector3d> few;
+  for (std::size_t i = 0; i < all.size(); i += 3)
+    few.push_back(all[i]);
+  const auto samples = mm::toAngularSamples(few);
+  const mm::GroundPlaneFit fit =
+      mm::estimateGroundPlane(samples, angles, mm::givenGroundPlane(params.ground), params.ground);
+  ASSERT_TRUE(fit.found);
+  ASSERT_GE(fit.inliers, 30u);
+  ASSERT_LT(fit.inliers, 80u);
+  EXPECT_GE(fit.inlier_fraction, params.ground.precise_fraction);
+  EXPECT_NEAR(fit.plane.height, 1.7, 0.05);
+  const mm::GroundChoice choice = mm::chooseGround(samples, angles, params);
+  EXPECT_EQ(choice.source, mm::GroundPriorParams::PlaneSource::kParameters);
+  EXPECT_EQ(choice.plane.height, 1.3);
+  EXPECT_FALSE(choice.dense);
+  // All of them (the test above) are enough.
+  ASSERT_GE(mm::estimateGroundPlane(mm::toAngularSamples(all), angles,
+                                    mm::givenGroundPlane(params.ground), params.ground)
+                .inliers,
+            80u);
+}
+
 TEST(GroundPlaneEstimate, RadarLikeReturnsKeepTheGivenPlaneAndTheSparseMode) {
   const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
   mm::DepthCompletionParams params;

@@ -74,8 +74,9 @@ struct GroundPriorParams {
   bool estimate_plane = true;
   double plane_distance = 0.1;  ///< RANSAC inlier distance, metres
   /// Returns are LiDAR-precise (dense mode, plane from the returns) when at least this share of
-  /// them lies within plane_distance of one ground plane (measured: LiDAR 0.32-0.85, radar
-  /// 0.02-0.13 on VoD, Astyx, nuScenes).
+  /// them, and at least 80, lie within plane_distance of one ground plane (measured: LiDAR
+  /// 0.19-0.85, the lower ones dense by their scan lines; radar 0.02-0.19 on VoD, Astyx, nuScenes,
+  /// synthetic radar up to 0.32).
   double precise_fraction = 0.25;
   /// With the camera image: the sky (image_guided's test and its guided.sky_* parameters) goes to
   /// the far clamp (guided.far_depth) with variance guided.sky_sigma^2. No return comes from the

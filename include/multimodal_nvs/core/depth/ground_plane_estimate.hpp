@@ -56,7 +56,8 @@ struct GroundChoice {
 GroundPlane givenGroundPlane(const GroundPriorParams& params);
 
 /// The plane and the mode of ground_gp for these returns. Plane: the returns' RANSAC plane when
-/// params.estimate_plane and the fit holds at least precise_fraction of the returns, else the
+/// params.estimate_plane and the fit holds at least precise_fraction of the returns and at least
+/// 80 of them (a quarter of a few dozen scattered returns lies on some plane by chance), else the
 /// given one (params.plane_source says whether a pose or the parameters gave it). Mode
 /// (params.input auto): dense when the returns are LiDAR-precise (that same test, and their mean
 /// spacing at most params.radius_deg or most of them on scan lines: a radar mounted high also fits
