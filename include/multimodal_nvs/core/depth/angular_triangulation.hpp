@@ -77,15 +77,15 @@ typedef double BlockDoubles __attribute__((vector_size(kBarycentricBlock * sizeo
 typedef float BlockFloats __attribute__((vector_size(kBarycentricBlock * sizeof(float))));
 typedef long long BlockMask __attribute__((vector_size(kBarycentricBlock * sizeof(long long))));
 
-inline BlockDoubles loadBlock(const double* p) {
-  BlockDoubles v;
+// Loads through an output reference: a 64-byte vector returned by value has another calling
+// convention with AVX-512 than without (GCC's -Wpsabi on builds for CPUs without it).
+inline void loadBlock(const double* p, BlockDoubles& v) {
   std::memcpy(&v, p, sizeof v);
-  return v;
 }
-inline BlockDoubles loadBlockAsDoubles(const float* p) {
-  BlockFloats v;
-  std::memcpy(&v, p, sizeof v);
-  return __builtin_convertvector(v, BlockDoubles);
+inline void loadBlockAsDoubles(const float* p, BlockDoubles& v) {
+  BlockFloats f;
+  std::memcpy(&f, p, sizeof f);
+  v = __builtin_convertvector(f, BlockDoubles);
 }
 inline void storeBlock(const BlockDoubles& v, double* p) {
   std::memcpy(p, &v, sizeof v);
@@ -106,8 +106,11 @@ inline void barycentricRow(const AngularTriangle& t, const float* __restrict az,
   const double d_az1 = t.az[1] - t.az[0], d_el1 = t.el[1] - t.el[0];
   const double d_az2 = t.az[2] - t.az[0], d_el2 = t.el[2] - t.el[0];
   for (int b = 0; b < n; b += kBarycentricBlock) {
-    const BlockDoubles pa = loadBlockAsDoubles(az + b) - az0;
-    const BlockDoubles pe = loadBlockAsDoubles(el + b) - el0;
+    BlockDoubles pa, pe;
+    loadBlockAsDoubles(az + b, pa);
+    loadBlockAsDoubles(el + b, pe);
+    pa -= az0;
+    pe -= el0;
     const BlockDoubles l1 = (pa * d_el2 - d_az2 * pe) * inv_det;
     const BlockDoubles l2 = (d_az1 * pe - pa * d_el1) * inv_det;
     const BlockDoubles l0 = 1.0 - l1 - l2;

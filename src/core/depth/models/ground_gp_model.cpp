@@ -377,7 +377,9 @@ void rasterizeSurfaceRow(const AngularTriangle& t, float longest_edge_deg, doubl
   while (last >= first && !box.inside[last])
     --last;
   for (int b = first; b <= last; b += kBarycentricBlock) {
-    const BlockDoubles l1 = loadBlock(box.l1s + b), l2 = loadBlock(box.l2s + b);
+    BlockDoubles l1, l2;
+    loadBlock(box.l1s + b, l1);
+    loadBlock(box.l2s + b, l2);
     const BlockDoubles l0 = 1.0 - l1 - l2;
     // std::max(0.0, l) spelled out, NaN to 0 as it does.
     const BlockDoubles a0 = 0.0 < l0 ? l0 : zero, a1 = 0.0 < l1 ? l1 : zero,
