@@ -255,7 +255,9 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     cv::Mat rgb;
     if (points_pub_.getNumSubscribers() > 0 && accept(frame.rgb(rgb), "image")) {
       const sensor_msgs::PointCloud2Ptr cloud = points_msg_.next();
-      rc::coloredCloud(depth, intrinsics, rgb, settings.cloud_stride, header, *cloud);
+      // On the completer's pool, idle once the scan is complete (this callback is its only user).
+      rc::coloredCloud(depth, intrinsics, rgb, settings.cloud_stride, header, *cloud,
+                       workspace_.pool());
       points_pub_.publish(cloud);
     }
     const double latency_ms = (ros::Time::now() - receipt).toSec() * 1e3;

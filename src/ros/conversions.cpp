@@ -446,8 +446,8 @@ sensor_msgs::PointCloud2 float32Cloud(const std::vector<std::string>& names,
 }
 
 void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, const cv::Mat& rgb,
-                  int cloud_stride, const std_msgs::Header& header,
-                  sensor_msgs::PointCloud2& cloud) {
+                  int cloud_stride, const std_msgs::Header& header, sensor_msgs::PointCloud2& cloud,
+                  ThreadPool* pool) {
   cloud.header = header;
   // stddev after rgb: readers that know XYZRGB (PCL, the renderer) find x, y, z, rgb where they
   // were; rviz colours the cloud by it with the Intensity transformer.
@@ -467,56 +467,76 @@ void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, co
 
   const StrideGrid& grid = depth.grid;
   const int step = std::max(1, cloud_stride);
+  const int cols = grid.cols();
+  const long long cloud_rows = (grid.rows() + step - 1) / step;
   const bool has_colour =
       rgb.type() == CV_8UC3 && rgb.rows == grid.image.height && rgb.cols == grid.image.width;
-  std::size_t count = 0;
-  for (int r = 0; r < grid.rows(); r += step) {
-    for (int c = 0; c < grid.cols(); c += step)
-      count += depth.valid[std::size_t(r) * grid.cols() + c];
-  }
+  // Each cloud row's first point (prefix sums of the kept pixels per row), so that rows can be
+  // written in parallel: a full-resolution cloud is ~2 M points, ~11 ms on one core.
+  std::vector<std::size_t> row_start(std::size_t(cloud_rows) + 1, 0);
+  parallelForOrInline(
+      pool, cloud_rows,
+      [&](long long i, int) {
+        const std::uint8_t* valid = depth.valid.data() + std::size_t(i) * step * cols;
+        std::size_t count = 0;
+        for (int c = 0; c < cols; c += step)
+          count += valid[c];
+        row_start[std::size_t(i) + 1] = count;
+      },
+      16);
+  for (std::size_t i = 1; i < row_start.size(); ++i)
+    row_start[i] += row_start[i - 1];
+  const std::size_t count = row_start.back();
   detail::resizeKeepingBuffer(cloud.data, count * cloud.point_step);
-  std::uint8_t* out = cloud.data.data();
-  // A distorted camera's rays (the pixel rays undistorted in one batch; pinhole: K's division).
+  // A distorted camera's rays (the pixel rays undistorted in one batch, in cloud order; pinhole:
+  // K's division).
   std::vector<Eigen::Vector2d> rays;
   if (intrinsics.distortion.any()) {
     rays.reserve(count);
     for (int r = 0; r < grid.rows(); r += step) {
-      for (int c = 0; c < grid.cols(); c += step) {
-        if (depth.valid[std::size_t(r) * grid.cols() + c]) {
+      for (int c = 0; c < cols; c += step) {
+        if (depth.valid[std::size_t(r) * cols + c]) {
           rays.emplace_back(c * grid.stride, r * grid.stride);
         }
       }
     }
     intrinsics.normalisedRays(rays);
   }
-  std::size_t ray_index = 0;
-  for (int r = 0; r < grid.rows(); r += step) {
-    const int v = r * grid.stride;
-    for (int c = 0; c < grid.cols(); c += step) {
-      const std::size_t index = std::size_t(r) * grid.cols() + c;
-      if (!depth.valid[index]) continue;
-      const int u = c * grid.stride;
-      const double z = depth.depth[index];
-      float xyz[3] = {float((u - intrinsics.cx) * z / intrinsics.fx),
-                      float((v - intrinsics.cy) * z / intrinsics.fy), float(z)};
-      if (!rays.empty()) {
-        const Eigen::Vector2d& ray = rays[ray_index++];
-        xyz[0] = float(ray.x() * z);
-        xyz[1] = float(ray.y() * z);
-      }
-      std::uint32_t packed = 0;
-      if (has_colour) {
-        const cv::Vec3b& px = rgb.at<cv::Vec3b>(v, u);
-        packed = (std::uint32_t(px[0]) << 16) | (std::uint32_t(px[1]) << 8) | px[2];
-      }
-      std::memcpy(out, xyz, sizeof xyz);
-      std::memcpy(out + 12, &packed, sizeof packed);
-      // Kept pixels have a finite variance (only finite variances are candidates for keeping).
-      const float stddev = std::sqrt(depth.variance[index]);
-      std::memcpy(out + 16, &stddev, sizeof stddev);
-      out += cloud.point_step;
-    }
-  }
+  const std::size_t point_step = cloud.point_step;
+  parallelForOrInline(
+      pool, cloud_rows,
+      [&](long long i, int) {
+        const int r = static_cast<int>(i) * step;
+        const int v = r * grid.stride;
+        std::size_t point = row_start[std::size_t(i)];
+        std::uint8_t* out = cloud.data.data() + point * point_step;
+        for (int c = 0; c < cols; c += step) {
+          const std::size_t index = std::size_t(r) * cols + c;
+          if (!depth.valid[index]) continue;
+          const int u = c * grid.stride;
+          const double z = depth.depth[index];
+          float xyz[3] = {float((u - intrinsics.cx) * z / intrinsics.fx),
+                          float((v - intrinsics.cy) * z / intrinsics.fy), float(z)};
+          if (!rays.empty()) {
+            const Eigen::Vector2d& ray = rays[point];
+            xyz[0] = float(ray.x() * z);
+            xyz[1] = float(ray.y() * z);
+          }
+          std::uint32_t packed = 0;
+          if (has_colour) {
+            const cv::Vec3b& px = rgb.at<cv::Vec3b>(v, u);
+            packed = (std::uint32_t(px[0]) << 16) | (std::uint32_t(px[1]) << 8) | px[2];
+          }
+          std::memcpy(out, xyz, sizeof xyz);
+          std::memcpy(out + 12, &packed, sizeof packed);
+          // Kept pixels have a finite variance (only finite variances are candidates for keeping).
+          const float stddev = std::sqrt(depth.variance[index]);
+          std::memcpy(out + 16, &stddev, sizeof stddev);
+          out += point_step;
+          ++point;
+        }
+      },
+      16);
   cloud.width = static_cast<std::uint32_t>(count);
   cloud.row_step = cloud.width * cloud.point_step;
 }

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
+#include <random>
 
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/ros/conversions.hpp"
@@ -636,6 +637,47 @@ TEST(OutputConversion, ColoredCloudBackProjectsKeptPixelsWithTheirColour) {
     }
     EXPECT_EQ(cloud->width, expected_count);
     EXPECT_EQ(cloud->row_step, cloud->width * cloud->point_step);
+  }
+}
+
+TEST(OutputConversion, ColoredCloudOnAPoolWritesTheSameBytes) {
+  // A grid with an irregular mask (rows of every kept count, some empty), pinhole and through a
+  // lens: the rows written in parallel land where the serial pass puts them.
+  mm::DepthMap map;
+  map.grid = mm::StrideGrid{{61, 97}, 1};
+  const std::size_t n = std::size_t(map.grid.size());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> depth(0.5f, 80.0f), variance(0.01f, 9.0f);
+  map.depth.resize(n);
+  map.variance.resize(n);
+  map.valid.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    map.depth[i] = depth(rng);
+    map.variance[i] = variance(rng);
+    const int r = static_cast<int>(i / 97);
+    map.valid[i] = r % 7 != 3 && rng() % (1 + r % 5) == 0;
+  }
+  cv::Mat rgb(61, 97, CV_8UC3);
+  cv::randu(rgb, cv::Scalar::all(0), cv::Scalar::all(255));
+  mm::PinholeIntrinsics pinhole{80, 80, 48, 30};
+  mm::PinholeIntrinsics lens = pinhole;
+  lens.distortion =
+      mm::LensDistortion::fromRos("plumb_bob", {-0.2, 0.05, 0.001, -0.001, 0.0}, "test");
+  ASSERT_TRUE(lens.distortion.any());
+  for (const mm::PinholeIntrinsics& k : {pinhole, lens}) {
+    for (int cloud_stride : {1, 2, 3}) {
+      sensor_msgs::PointCloud2 serial;
+      rc::coloredCloud(map, k, rgb, cloud_stride, {}, serial);
+      ASSERT_GT(serial.width, 0u);
+      for (int threads : {2, 3}) {
+        mm::ThreadPool pool(threads);
+        sensor_msgs::PointCloud2 parallel;
+        rc::coloredCloud(map, k, rgb, cloud_stride, {}, parallel, &pool);
+        EXPECT_EQ(parallel.width, serial.width) << cloud_stride << " " << threads;
+        EXPECT_EQ(parallel.row_step, serial.row_step);
+        EXPECT_TRUE(parallel.data == serial.data) << cloud_stride << " " << threads;
+      }
+    }
   }
 }
 

@@ -151,10 +151,11 @@ sensor_msgs::PointCloud2 float32Cloud(const std::vector<std::string>& names,
 /// in the camera frame of the kept pixels, every `cloud_stride`-th grid pixel in each direction:
 /// P = z K^-1 [u, v, 1] at the full-image pixel, colour = `rgb` (full-image CV_8UC3) at that
 /// pixel. Unorganised, dense. Written into `cloud`,
-/// whose buffer is reused when it is large enough.
+/// whose buffer is reused when it is large enough. With `pool`, rows are written in parallel (the
+/// same bytes as without).
 void coloredCloud(const DepthMap& depth, const PinholeIntrinsics& intrinsics, const cv::Mat& rgb,
-                  int cloud_stride, const std_msgs::Header& header,
-                  sensor_msgs::PointCloud2& cloud);
+                  int cloud_stride, const std_msgs::Header& header, sensor_msgs::PointCloud2& cloud,
+                  ThreadPool* pool = nullptr);
 
 }  // namespace ros_conversions
 }  // namespace multimodal_nvs

@@ -17,6 +17,8 @@ class ThreadCountCached {
     }
     return *engine_;
   }
+  /// The engine the last forThreads() built; null before the first call.
+  Engine* current() { return engine_.get(); }
 
  private:
   std::unique_ptr<Engine> engine_;

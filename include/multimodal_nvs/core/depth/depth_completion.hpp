@@ -67,6 +67,9 @@ class DepthCompleter {
                 const cv::Mat& image = cv::Mat());
 
   int threads() const { return pool_->size(); }
+  /// The pool, idle between calls: for work on a result (the node's coloured cloud) on the same
+  /// thread that calls complete(), never during a call.
+  ThreadPool& pool() { return *pool_; }
 
  private:
   const PixelAngleGrid& pixelAngles(const PinholeIntrinsics& intrinsics, const StrideGrid& grid);

@@ -50,6 +50,11 @@ class DepthCompletionWorkspace {
                            const DepthCompletionParams& params, const cv::Mat& image = cv::Mat());
 
   const DepthMap& depth() const { return depth_; }
+  /// The completer's thread pool for work on depth() between scans (null before the first scan).
+  ThreadPool* pool() {
+    DepthCompleter* completer = completer_.current();
+    return completer != nullptr ? &completer->pool() : nullptr;
+  }
 
  private:
   ThreadCountCached<DepthCompleter> completer_;
