@@ -319,7 +319,9 @@ TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
                 stats->ground_mode == "sparse_tiled")
         << stats->ground_mode;
     EXPECT_FALSE(stats->ground_source.empty());
-    if (stats->ground_mode != "dense") EXPECT_EQ(stats->ground_hidden_returns, -1);
+    if (stats->ground_mode != "dense") {
+      EXPECT_EQ(stats->ground_hidden_returns, -1);
+    }
     EXPECT_LE(stats->ground_hidden_returns, int(stats->points_in));
   }
   ASSERT_FALSE(o.points.empty());
