@@ -7,6 +7,7 @@
 // merge exactly (scripts/eval_tables.py merge).
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -40,7 +41,7 @@ struct Options {
   mm::cli::DepthModelOptions depth;
   mm::cli::FrameOptions frames;
   std::string vod_root, input = "radar", gt = "auto", pred, retain_percent = "100",
-                        calibration_levels = "50,68,80,90,95,99", label, output;
+                        calibration_levels = "50,68,80,90,95,99", label, output, save_errors;
   int subsample = 1, subsample_phase = 0, stride = 1, repeat = 1;
   double max_depth = 0.0;
   bool quiet = false;
@@ -86,6 +87,12 @@ void declareOptions(CLI::App& app, Options& o) {
   app.add_option("--output", o.output, "write the full JSON (per frame and aggregate) to this file")
       ->group(out);
   app.add_option("--label", o.label, "name of this configuration in the JSON (default: the model)")
+      ->group(out);
+  app.add_option("--save-errors", o.save_errors,
+                 "write DIR/NNNNN_errors.npy per frame: prediction - truth at each ground-truth "
+                 "pixel in grid order, NaN where there is no prediction (every prediction, as at "
+                 "100 %); runs of several models on the same truth line up entry for entry, for "
+                 "comparing them on the pixels they all predict (scripts/eval_tables.py common)")
       ->group(out);
   app.add_option("--stride", o.stride, "grid step in pixels (as complete_depth --stride)")
       ->check(mm::cli::atLeast(1))
@@ -290,6 +297,13 @@ int run(int argc, char** argv) {
                             : from_file      ? "file"
                                              : mm::toString(params.model);
 
+  if (!o.save_errors.empty()) {
+    std::error_code ec;
+    if (!std::filesystem::create_directories(o.save_errors, ec) && ec) {
+      throw mm::InputError(o.save_errors + ": cannot create the directory (" + ec.message() + ")");
+    }
+  }
+
   mm::DepthCompleter completer(params.threads);
   std::vector<FrameResult> results;
   mm::cli::Progress progress("evaluate_depth", static_cast<int>(frames.size()), "frames", o.quiet);
@@ -413,6 +427,12 @@ int run(int argc, char** argv) {
       predicted.swap(map.valid);
     }
 
+    if (!o.save_errors.empty()) {
+      const std::vector<float> errors =
+          mm::signedErrorsAtTruth(depth.data(), predicted.data(), truth.data(), n, options);
+      mm::io::writeNpy(o.save_errors + "/" + frame.id() + "_errors.npy", errors.data(),
+                       {errors.size()});
+    }
     std::vector<std::uint8_t> kept(n);
     for (double p : levels) {
       RetentionResult r;

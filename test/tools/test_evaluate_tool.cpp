@@ -7,6 +7,7 @@
 #include "tool_runner.hpp"
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -128,6 +129,44 @@ TEST(EvaluateDepthTool, EvaluatesSavedPredictions) {
   r = runTool(base() + "--frames 0 --retain-percent 50 --pred " + ::testing::TempDir() + "ev_pred");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("variance"), std::string::npos) << r.output;
+}
+
+TEST(EvaluateDepthTool, SavedErrorsLineUpAcrossModelsWithNaNWhereNothingIsPredicted) {
+  writeScene(true);
+  // A saved prediction 2 m behind the wall, with a hole in row 10: its errors are +2 where it
+  // predicts and NaN in the hole.
+  std::vector<float> depth(60 * 80, 12.0f), variance(60 * 80, 1.0f);
+  for (int c = 0; c < 80; ++c)
+    depth[10 * 80 + c] = NAN;
+  io::writeNpy(::testing::TempDir() + "ev_err_pred_depth.npy", depth.data(), {60, 80});
+  io::writeNpy(::testing::TempDir() + "ev_err_pred_variance.npy", variance.data(), {60, 80});
+  const std::string file_dir = ::testing::TempDir() + "ev_errors/file";
+  const std::string model_dir = ::testing::TempDir() + "ev_errors/nearest";
+  auto r = runTool(base() + "--frames 0 --pred " + ::testing::TempDir() + "ev_err_pred" +
+                   " --save-errors " + file_dir);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = runTool(base() + "--frames 0 --model nearest --save-errors " + model_dir);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const io::NpyArray from_file = io::readNpy(file_dir + "/00000_errors.npy");
+  const io::NpyArray from_model = io::readNpy(model_dir + "/00000_errors.npy");
+  // One entry per ground-truth pixel (all but the top row), the same pixels for both.
+  ASSERT_EQ(from_file.shape, std::vector<std::size_t>{60 * 80 - 80});
+  ASSERT_EQ(from_model.shape, from_file.shape);
+  const std::vector<float> file_errors = from_file.asFloat(), model_errors = from_model.asFloat();
+  // Row 10 of the grid is entries 9 * 80 ... 10 * 80 - 1 (row 0 has no truth).
+  for (std::size_t i = 0; i < file_errors.size(); ++i) {
+    const bool hole = i >= 9 * 80 && i < 10 * 80;
+    if (hole) {
+      EXPECT_TRUE(std::isnan(file_errors[i])) << i;
+    } else {
+      EXPECT_FLOAT_EQ(file_errors[i], 2.0f) << i;
+    }
+    EXPECT_NEAR(model_errors[i], 0.0f, 1e-4f) << i;  // nearest on the wall: exact everywhere
+  }
+  // A directory that cannot be made: exit 1 naming it.
+  r = runTool(base() + "--frames 0 --model nearest --save-errors /proc/no_such_dir/x");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("/proc/no_such_dir/x"), std::string::npos) << r.output;
 }
 
 TEST(EvaluateDepthTool, BadInputGivesAClearMessageAndNoCrash) {

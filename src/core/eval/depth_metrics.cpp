@@ -80,6 +80,20 @@ DepthErrorSums evaluateDepth(const float* prediction, const std::uint8_t* mask, 
   return sums;
 }
 
+std::vector<float> signedErrorsAtTruth(const float* prediction, const std::uint8_t* mask,
+                                       const float* truth, std::size_t n,
+                                       const DepthEvaluationOptions& options) {
+  std::vector<float> errors;
+  for (std::size_t i = 0; i < n; ++i) {
+    double clipped = 0.0;
+    const PixelRole role = evaluatedPixel(prediction, mask, truth, i, options, clipped);
+    if (role == PixelRole::kNoTruth) continue;
+    errors.push_back(role == PixelRole::kEvaluated ? static_cast<float>(clipped - double(truth[i]))
+                                                   : std::numeric_limits<float>::quiet_NaN());
+  }
+  return errors;
+}
+
 double CalibrationCounts::observed(std::size_t i) const {
   return count > 0 ? static_cast<double>(inside.at(i)) / static_cast<double>(count)
                    : std::numeric_limits<double>::quiet_NaN();

@@ -75,6 +75,29 @@ TEST(DepthMetrics, MergedSumsEqualTheSumsOfTheUnion) {
   EXPECT_DOUBLE_EQ(a.abs_rel, all.abs_rel);
 }
 
+TEST(DepthMetrics, SignedErrorsAtTruthFollowTheSamePixelsAndClippingAsTheSums) {
+  // Truth pixels 0, 1, 3, 4 (2 has none, 5 is beyond the cap); 1 is not predicted (mask), 4 is
+  // a kept negative depth (clipped to 1e-3), 3 is clipped to the cap.
+  const float pred[] = {2.0f, 4.0f, 9.0f, 80.0f, -1.0f, 5.0f};
+  const float gt[] = {1.0f, 4.0f, 0.0f, 50.0f, 2.0f, 70.0f};
+  const std::uint8_t mask[] = {1, 0, 1, 1, 1, 1};
+  mm::DepthEvaluationOptions options;
+  options.max_depth = 60.0;
+  const std::vector<float> e = mm::signedErrorsAtTruth(pred, mask, gt, 6, options);
+  ASSERT_EQ(e.size(), 4u);  // one entry per ground-truth pixel, in grid order
+  EXPECT_FLOAT_EQ(e[0], 1.0f);
+  EXPECT_TRUE(std::isnan(e[1]));
+  EXPECT_FLOAT_EQ(e[2], 10.0f);  // 80 clipped to 60
+  EXPECT_FLOAT_EQ(e[3], 1e-3f - 2.0f);
+  // Their mean absolute value is evaluateDepth's MAE.
+  const mm::DepthErrorSums sums = mm::evaluateDepth(pred, mask, gt, 6, options);
+  EXPECT_EQ(sums.gt_pixels, 4);
+  double abs_sum = 0.0;
+  for (float v : e)
+    if (!std::isnan(v)) abs_sum += std::abs(double(v));
+  EXPECT_NEAR(abs_sum, sums.abs_error, 1e-5);
+}
+
 TEST(DepthGroundTruth, ProjectedScanKeepsTheNearestReturnPerPixel) {
   const auto k = mm::test::smallCamera();
   const mm::StrideGrid grid{mm::test::smallImage(), 2};

@@ -50,6 +50,15 @@ struct DepthEvaluationOptions {
 DepthErrorSums evaluateDepth(const float* prediction, const std::uint8_t* mask, const float* truth,
                              std::size_t n, const DepthEvaluationOptions& options);
 
+/// prediction - truth at every ground-truth pixel evaluateDepth considers (same mask, clipping and
+/// cap), in grid order, NaN where that pixel has no prediction. Models evaluated on the same grid
+/// against the same truth give arrays of the same length, entry for entry: what comparing them on
+/// only the pixels that all of them predict needs (a model that predicts only near its samples,
+/// such as linear interpolation inside the samples' hull, is otherwise scored on easier pixels).
+std::vector<float> signedErrorsAtTruth(const float* prediction, const std::uint8_t* mask,
+                                       const float* truth, std::size_t n,
+                                       const DepthEvaluationOptions& options);
+
 /// Calibration of a predictive variance: for each nominal level p, the number of
 /// evaluated ground-truth pixels g inside the central Gaussian interval mean +- z_p sigma, where
 /// P(|N(0, 1)| <= z_p) = p. A calibrated model has observed(i) close to levels[i] at every level.
