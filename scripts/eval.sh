@@ -179,16 +179,20 @@ depth_runs() {
       if [[ "$input" == radar ]]; then
         try_json "$dir/radar_$model.line" "$TOOLS/evaluate_depth" "${common[@]}" --input radar \
           --model "$model" $(model_args "$model" radar) --stride "$radar_stride" \
-          --retain-percent 100,80,60,40 \
+          --retain-percent 100,80,60,40 --save-errors "$dir/errors/radar_$model" \
           --output "$dir/radar_$model.json" || rm -f "$dir/radar_$model.json"
       else
         try_json "$dir/lidar_$model.line" "$TOOLS/evaluate_depth" "${common[@]}" --input lidar \
           --subsample "$LIDAR_SUBSAMPLE" --stride "$LIDAR_STRIDE" --model "$model" \
           $(model_args "$model" lidar) --retain-percent 100,80 \
+          --save-errors "$dir/errors/lidar_$model" \
           --output "$dir/lidar_$model.json" || rm -f "$dir/lidar_$model.json"
       fi
     done
   done
+  # Every model's MAE on the pixels that all of them predict (<input>_common.json; the per-pixel
+  # errors are removed afterwards).
+  "$PY" "$REPO/scripts/eval_tables.py" common "$dir"
 }
 
 # render_nvs PREFIX IMAGE CALIB ROOT FIRST LAST H W [POSE_KEY OUT]: renders PREFIX_depth.npy

@@ -4,6 +4,11 @@
   eval_tables.py tables OUT_DIR [--seconds S] [--threads N] [--split dev|validation|all]
       Reads OUT_DIR/raw/<suite>/*.json written by scripts/eval.sh, writes OUT_DIR/tables.md and
       OUT_DIR/tables.json, and prints the Markdown.
+  eval_tables.py common DIR [--keep]
+      Reduces DIR/errors/<input>_<model>/NNNNN_errors.npy (evaluate_depth --save-errors of every
+      model on the same truth) to DIR/<input>_common.json: each model's MAE and RMSE over the
+      ground-truth pixels that every model predicts, per frame and as the mean over frames, and
+      their share. Removes DIR/errors afterwards unless --keep.
   eval_tables.py merge MERGED.json SHARD.json [SHARD.json ...]
       Merges evaluate_depth --output files of the shards of one configuration (same config except
       the shard) into one file with the same layout; the aggregate is recomputed exactly from the
@@ -15,6 +20,7 @@ give the same tables.
 import json
 import math
 import os
+import shutil
 import sys
 import time
 
@@ -161,6 +167,71 @@ def merge(out_path, paths):
 # ---------------------------------------------------------------------------------------------
 # tables
 
+def common_errors(directory, keep=False):
+    """evaluate_depth --save-errors of several models on one truth -> <input>_common.json.
+
+    Models that predict only near their samples (linear inside the hull, kernel within its radius)
+    are otherwise scored on easier pixels than those that predict everywhere; on the pixels that
+    every model predicts the comparison is like for like. Each frame's arrays must have the same
+    length (one entry per ground-truth pixel, the same truth): anything else is an error."""
+    base = os.path.join(directory, "errors")
+    for input_name, _ in INPUTS:  # an earlier run's result must not outlive its errors
+        stale = os.path.join(directory, "%s_common.json" % input_name)
+        if os.path.exists(stale):
+            os.remove(stale)
+    if not os.path.isdir(base):
+        return
+    for input_name, _ in INPUTS:
+        runs = sorted(d for d in os.listdir(base) if d.startswith(input_name + "_") and
+                      os.path.isdir(os.path.join(base, d)))
+        models = [d[len(input_name) + 1:] for d in runs]
+        if len(models) < 2:  # nothing to compare
+            continue
+        frame_sets = [set(f for f in os.listdir(os.path.join(base, d)) if f.endswith("_errors.npy"))
+                      for d in runs]
+        names = sorted(set.intersection(*frame_sets))
+        frames = []
+        for name in names:
+            arrays = []
+            for d in runs:
+                path = os.path.join(base, d, name)
+                try:
+                    arrays.append(np.load(path).astype(np.float64).ravel())
+                except (OSError, ValueError) as error:
+                    fail("%s: cannot read (%s)" % (path, error))
+            lengths = set(len(a) for a in arrays)
+            if len(lengths) != 1:
+                fail("%s: the models' error arrays differ in length (%s): not the same truth" %
+                     (os.path.join(base, "*", name), ", ".join(
+                         "%s %d" % (m, len(a)) for m, a in zip(models, arrays))))
+            common = np.all([np.isfinite(a) for a in arrays], axis=0)
+            count = int(common.sum())
+            record = {"frame": int(name.split("_")[0]), "truth_pixels": int(lengths.pop()),
+                      "common_pixels": count, "mae": {}, "rmse": {}}
+            for model, a in zip(models, arrays):
+                e = a[common]
+                record["mae"][model] = float(np.abs(e).mean()) if count else None
+                record["rmse"][model] = float(np.sqrt((e * e).mean())) if count else None
+            frames.append(record)
+        truth = sum(f["truth_pixels"] for f in frames)
+        mean = {"share": sum(f["common_pixels"] for f in frames) / truth if truth else None}
+        for metric in ("mae", "rmse"):
+            mean[metric] = {}
+            for model in models:
+                values = [f[metric][model] for f in frames if f[metric][model] is not None]
+                mean[metric][model] = sum(values) / len(values) if values else None
+        with open(os.path.join(directory, "%s_common.json" % input_name), "w") as f:
+            json.dump({"models": models, "frames": frames, "mean_over_frames": mean}, f, indent=1)
+            f.write("\n")
+    if not keep:
+        shutil.rmtree(base)
+
+
+def load_common(directory, input_name):
+    path = os.path.join(directory, "%s_common.json" % input_name)
+    return load(path) if os.path.exists(path) else None
+
+
 def fmt(value, digits):
     if value is None or (isinstance(value, float) and not math.isfinite(value)):
         return "–"
@@ -233,16 +304,33 @@ def failures_of(directory, prefix):
     return out
 
 
-def depth_table(key, title, caption, docs, percent, failures=None):
-    table = Table(key, title, caption, DEPTH_HEADER)
+COMMON_HEADER = "MAE, common pixels [m]"
+
+
+def common_note(common):
+    share = common["mean_over_frames"]["share"]
+    return (" %s: over the ground-truth pixels that every model of the table predicts (%s of "
+            "them; mean over frames), so that a model predicting only near its samples is not "
+            "scored on easier pixels than the others." %
+            (COMMON_HEADER, "–" if share is None else "%.1f %%" % (100 * share)))
+
+
+def depth_table(key, title, caption, docs, percent, failures=None, common=None):
+    """common: the suite's <input>_common.json (all pixels only): adds its MAE column."""
+    header = DEPTH_HEADER + ([COMMON_HEADER] if common else [])
+    table = Table(key, title, caption + (common_note(common) if common else ""), header)
     for model, doc in docs:
         m, runtime = level_of(doc, percent)
         if m is None:
             continue
-        table.add(depth_cells(MODEL_NAMES.get(model, model), m, runtime),
-                  dict(model=model, retain_percent=percent, median_runtime_ms=runtime, **m))
+        cells = depth_cells(MODEL_NAMES.get(model, model), m, runtime)
+        record = dict(model=model, retain_percent=percent, median_runtime_ms=runtime, **m)
+        if common:
+            record["mae_common"] = common["mean_over_frames"]["mae"].get(model)
+            cells.append(fmt(record["mae_common"], 2))
+        table.add(cells, record)
     for model, reason in sorted((failures or {}).items()):
-        table.add([MODEL_NAMES.get(model, model), reason] + ["–"] * (len(DEPTH_HEADER) - 2),
+        table.add([MODEL_NAMES.get(model, model), reason] + ["–"] * (len(header) - 2),
                   dict(model=model, retain_percent=percent, error=reason))
     return table
 
@@ -332,7 +420,8 @@ def suite_tables(suite, raw, label, truth, notes):
                 "share; kernel and linear predict only near / between samples).%s%s" %
                 (frames, resolution, truth, "kept prediction" if percent < 100 else "prediction",
                  RETENTION_NOTE if percent < 100 else "", notes),
-                radar, percent, radar_failures))
+                radar, percent, radar_failures,
+                load_common(d, "radar") if percent == 100 else None))
     if lidar or lidar_failures:
         cfg = lidar[0][1]["config"] if lidar else {"subsample": 4, "stride": 4}
         k, stride = cfg["subsample"], cfg["stride"]
@@ -351,7 +440,8 @@ def suite_tables(suite, raw, label, truth, notes):
                 "close-range returns (clipped to 1 mm; the exact GP does the same). ground_gp "
                 "chooses its sparse or dense input mode itself (ground_input auto).%s%s" %
                 (k, gt, frames, stride, stride, RETENTION_NOTE if percent < 100 else "", notes),
-                lidar, percent, lidar_failures))
+                lidar, percent, lidar_failures,
+                load_common(d, "lidar") if percent == 100 else None))
     # Calibration curves of the predictive variance (all pixels): ground_gp and, for contrast, the
     # reference GP on radar; ground_gp on LiDAR input too.
     rows = []
@@ -505,6 +595,12 @@ def scene_results(directory):
                     frames=[f["frame"] for f in doc["frames"]])
         out["errors"].update({(input_name, m): r for m, r in
                               failures_of(directory, input_name).items()})
+        common = load_common(directory, input_name)
+        if common:
+            for model, mae in common["mean_over_frames"]["mae"].items():
+                if (input_name, model) in out["depth"]:
+                    out["depth"][(input_name, model)]["mae_common"] = mae
+            out.setdefault("common_share", {})[input_name] = common["mean_over_frames"]["share"]
     nvs_dir = os.path.join(directory, "nvs")
     if os.path.isdir(nvs_dir):
         for kind in ("oracle", "exact_nosky"):
@@ -702,7 +798,42 @@ def synthetic_tables(raw):
             nvs_table.add(cells, record)
             other_table.add(other, record)
         tables += [nvs_table, other_table]
+        common_table = synthetic_common_table(scenes, input_name, input_label, keys, setup)
+        if common_table:
+            tables.append(common_table)
     return tables
+
+
+def synthetic_common_table(scenes, input_name, input_label, keys, setup):
+    """Per scene: each model's depth MAE over the pixels every model predicts, and their share."""
+    with_common = [s for s in scenes if input_name in s.get("common_share", {})]
+    if not with_common:
+        return None
+    keys = [k for k in keys if any("mae_common" in s["depth"].get(k, {}) for s in with_common)]
+    table = Table("synthetic_%s_depth_common_per_scene" % input_name,
+                  "Synthetic scenes, %s input: depth MAE on the pixels every model predicts" %
+                  input_label,
+                  "Cell: depth MAE [m] over the exact-depth pixels that every model of the row "
+                  "predicts (the depth runs of the tables above; kernel and linear predict only "
+                  "near / between returns, so their own MAE covers easier pixels); Common: the "
+                  "share of the exact-depth pixels that are. %s" % setup,
+                  ["Scene", "Split", "Common"] + [MODEL_NAMES[m] for _, m in keys])
+    for s in with_common:
+        table.add([s["name"], s["split"], fmt(s["common_share"][input_name], 2)] +
+                  [fmt(s["depth"].get(k, {}).get("mae_common"), 2) for k in keys],
+                  dict(scene=s["name"], split=s["split"], share=s["common_share"][input_name],
+                       mae_common={k[1]: s["depth"].get(k, {}).get("mae_common") for k in keys}))
+    for split in SPLITS:
+        in_split = [s for s in with_common if s["split"] == split]
+        if not in_split:
+            continue
+        share = mean_of([s["common_share"][input_name] for s in in_split])[0]
+        means = {k[1]: mean_of([s["depth"].get(k, {}).get("mae_common") for s in in_split])[0]
+                 for k in keys}
+        table.add(["**%s mean**" % split, split, fmt(share, 2)] +
+                  [fmt(means[k[1]], 2) for k in keys],
+                  dict(scene="%s mean" % split, split=split, share=share, mae_common=means))
+    return table
 
 
 def tables(out_dir, seconds, threads, split="all"):
@@ -750,6 +881,11 @@ def main(argv):
         if len(argv) < 4:
             fail("usage: eval_tables.py merge MERGED.json SHARD.json [SHARD.json ...]")
         merge(argv[2], argv[3:])
+        return
+    if len(argv) >= 3 and argv[1] == "common":
+        if argv[3:] not in ([], ["--keep"]):
+            fail("usage: eval_tables.py common DIR [--keep]")
+        common_errors(argv[2], keep=argv[3:] == ["--keep"])
         return
     if len(argv) >= 3 and argv[1] == "tables":
         seconds, threads, split = None, "?", "all"

@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
 #include <vector>
 
+#include "multimodal_nvs/core/common/json_output.hpp"
 #include "multimodal_nvs/core/io/npy.hpp"
 #include "tool_runner.hpp"
 
@@ -137,4 +140,64 @@ TEST(RadarSurfaceOffsets, PassThroughPutsMoreReturnsBehindTheSurface) {
   const auto bad = runCommand("scripts/radar_surface_offsets.py " + dir() + "no_such_scene 00000");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("no_such_scene"), std::string::npos) << bad.output;
+}
+
+// eval_tables.py common: the MAE of each model over the pixels every model predicts equals what the
+// saved errors give, their share is below 1 when one model (linear, inside the returns' hull) does
+// not predict everywhere, the per-pixel files go afterwards, and errors of different truths fail.
+TEST(EvalTablesCommon, EachModelIsScoredOnThePixelsAllOfThemPredict) {
+  const std::string scene = makeScene("common_scene", "--seed 5");
+  const std::string out = dir() + "common_out";
+  std::filesystem::remove_all(out);
+  for (const std::string model : {"nearest", "linear"}) {
+    const auto r =
+        runTool("evaluate_depth", "--vod-root " + scene + " --frames 0 --quiet " + "--model " +
+                                      model + " --save-errors " + out + "/errors/radar_" + model);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  const auto reduced = runCommand("scripts/eval_tables.py common " + out + " --keep");
+  ASSERT_EQ(reduced.exit_code, 0) << reduced.output;
+  std::ifstream in(out + "/radar_common.json");
+  ASSERT_TRUE(in.good());
+  const auto doc = nlohmann::json::parse(in);
+  const std::vector<float> nearest =
+      io::readNpy(out + "/errors/radar_nearest/00000_errors.npy").asFloat();
+  const std::vector<float> linear =
+      io::readNpy(out + "/errors/radar_linear/00000_errors.npy").asFloat();
+  ASSERT_EQ(nearest.size(), linear.size());
+  double sum_nearest = 0.0, sum_linear = 0.0;
+  std::size_t common = 0, nearest_predicted = 0;
+  for (std::size_t i = 0; i < nearest.size(); ++i) {
+    nearest_predicted += std::isfinite(nearest[i]);
+    if (!std::isfinite(nearest[i]) || !std::isfinite(linear[i])) continue;
+    ++common;
+    sum_nearest += std::abs(nearest[i]);
+    sum_linear += std::abs(linear[i]);
+  }
+  ASSERT_GT(common, 0u);
+  EXPECT_EQ(nearest_predicted, nearest.size());  // nearest predicts every pixel
+  EXPECT_LT(common, nearest.size());             // linear does not
+  const auto& mean = doc["mean_over_frames"];
+  EXPECT_NEAR(mean["share"].get<double>(), double(common) / nearest.size(), 1e-9);
+  EXPECT_NEAR(mean["mae"]["nearest"].get<double>(), sum_nearest / common, 1e-4);
+  EXPECT_NEAR(mean["mae"]["linear"].get<double>(), sum_linear / common, 1e-4);
+  EXPECT_EQ(doc["frames"][0]["truth_pixels"].get<std::size_t>(), nearest.size());
+
+  // Without --keep the per-pixel errors go.
+  ASSERT_EQ(runCommand("scripts/eval_tables.py common " + out).exit_code, 0);
+  EXPECT_FALSE(std::filesystem::exists(out + "/errors"));
+  EXPECT_TRUE(std::filesystem::exists(out + "/radar_common.json"));
+
+  // Errors of two different truths (another stride) cannot be compared: it fails naming them.
+  for (const std::string stride : {"1", "2"}) {
+    const auto r =
+        runTool("evaluate_depth", "--vod-root " + scene + " --frames 0 --quiet " +
+                                      "--model nearest --stride " + stride + " --save-errors " +
+                                      out + "/errors/radar_s" + stride);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  const auto bad = runCommand("scripts/eval_tables.py common " + out);
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("differ in length"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("00000_errors.npy"), std::string::npos) << bad.output;
 }
