@@ -32,6 +32,8 @@
 #   EVAL_RETENTION   retention (%) of the novel-view depth (default: each sensor's retain_percent
 #                    in config/radar.yaml and config/lidar.yaml); VoD 08350 also at 80 and 100
 #   EVAL_MODEL_ARGS  extra options of every depth run (tuning on dev: "--guided-lambda 1000")
+#   EVAL_SCENE_ARGS  extra make_synthetic_scene options of every scene (part of the cache key), e.g.
+#                    "--radar-ghosts 0.5 --radar-ghost-max-factor 3" (a radar like the real ones)
 #   EVAL_SCENE_DEPTH_FRAMES frames of the synthetic depth metrics (default 0, the novel-view frame)
 #   EVAL_KEEP_FRAMES=1 keeps the rendered frames of the novel-view runs
 #
@@ -289,19 +291,21 @@ if skipped synthetic; then
 else
   rm -rf "$RAW/synthetic"
   mkdir -p "$RAW/synthetic" "$SCENE_CACHE"
+  # The tables name them: scenes made with other sensors than the list's are other scenes.
+  [[ -n "${EVAL_SCENE_ARGS:-}" ]] && printf '%s\n' "$EVAL_SCENE_ARGS" > "$RAW/synthetic/scene_args.txt"
   scene_count=0
   while IFS=$'\t' read -r name split args; do
     [[ -z "$name" || "$name" == \#* ]] && continue
     [[ "$SPLIT" != all && "$split" != "$SPLIT" ]] && continue
     if [[ -n "${EVAL_SCENES:-}" && " $EVAL_SCENES " != *" $name "* ]]; then continue; fi
     scene_count=$((scene_count + 1))
-    read -r -a scene_args <<< "$args"
+    read -r -a scene_args <<< "$args ${EVAL_SCENE_ARGS:-}"
     make_scene "$name" "${scene_args[@]}"
     root="$SCENE_CACHE/$name"
     dir="$RAW/synthetic/$name"
     mkdir -p "$dir"
     printf '{"name": "%s", "split": "%s", "args": "%s", "scale": %s, "frames": %s}\n' \
-      "$name" "$split" "$args" "$SCENE_SCALE" "$SCENE_FRAMES" > "$dir/scene.json"
+      "$name" "$split" "${scene_args[*]}" "$SCENE_SCALE" "$SCENE_FRAMES" > "$dir/scene.json"
     inputs="radar"
     skipped lidar || inputs="radar lidar"
     depth_runs "synthetic/$name" "$root" "$SCENE_DEPTH_FRAMES" "$inputs" 1

@@ -665,6 +665,10 @@ def synthetic_tables(raw):
              "all LiDAR returns (the novel views) a 1° radius." %
              (first.get("frames"), first.get("scale"), retention,
               depth_frames))
+    extra_path = os.path.join(root, "scene_args.txt")
+    if os.path.exists(extra_path):
+        with open(extra_path) as f:
+            setup += " Every scene also made with `%s` (EVAL_SCENE_ARGS)." % f.read().strip()
     tables = []
 
     def split_mean(split, key, field):

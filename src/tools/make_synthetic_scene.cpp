@@ -95,6 +95,15 @@ void declareOptions(CLI::App& app, Options& o) {
                  "vehicles, through foliage, multipath)")
       ->check(CLI::Range(0.0, 1.0))
       ->group(sensors);
+  app.add_option("--radar-ghosts", p.radar.ghosts,
+                 "share of radar detections that are multipath ghosts: along the beam, 1.1 to "
+                 "--radar-ghost-max-factor times the surface's range, on no surface")
+      ->check(CLI::Range(0.0, 1.0))
+      ->group(sensors);
+  app.add_option("--radar-ghost-max-factor", p.radar.ghost_range_factor_max,
+                 "largest range factor of a ghost")
+      ->check(CLI::Range(1.1, 10.0))
+      ->group(sensors);
   app.add_option("--lidar-range-sigma", p.lidar.range_sigma, "LiDAR range noise (m)")
       ->check(mm::cli::atLeast(0))
       ->group(sensors);

@@ -66,6 +66,10 @@ void SyntheticDatasetParams::validate() const {
           "radar noise must be >= 0");
   require(radar.pass_through >= 0.0 && radar.pass_through <= 1.0,
           "radar: pass-through share in [0, 1]");
+  require(radar.ghosts >= 0.0 && radar.ghosts <= 1.0 &&
+              radar.ghost_range_factor_max >= kMinGhostRangeFactor &&
+              radar.ghost_range_factor_max <= 10.0,
+          "radar: ghost share in [0, 1] and ghost range factor in [1.1, 10]");
   require(lidar.rings >= 1 && lidar.azimuth_step_deg > 0.01 && lidar.range_sigma >= 0,
           "lidar: rings >= 1, azimuth step > 0.01 deg, noise >= 0");
   require(std::isfinite(camera_height) && camera_height >= 0.3 && camera_height <= 5.0,
@@ -176,6 +180,8 @@ void SyntheticDataset::write(const std::string& root,
          << ", \"radar_elevation_sigma_deg\": " << params_.radar.elevation_sigma_deg
          << ", \"radar_clutter_fraction\": " << params_.radar.clutter_fraction
          << ", \"radar_pass_through\": " << params_.radar.pass_through
+         << ", \"radar_ghosts\": " << params_.radar.ghosts
+         << ", \"radar_ghost_range_factor_max\": " << params_.radar.ghost_range_factor_max
          << ", \"radar_candidates\": " << params_.radar.candidates
          << ", \"lidar_range_sigma\": " << params_.lidar.range_sigma
          << ", \"lidar_beams\": " << params_.lidar.rings << ", \"lidar_elevation_deg\": ["

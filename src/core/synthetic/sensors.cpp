@@ -232,12 +232,19 @@ std::vector<RadarReturn> simulateRadar(const SyntheticScene& scene,
       next.t += hit.t + 1e-3;
       hit = next;
     }
+    // A multipath ghost: the same beam, a longer echo path (drawn only when asked, as above).
+    double path = hit.t;
+    const bool ghost = p.ghosts > 0.0 && rng.uniform() < p.ghosts;
+    if (ghost) {
+      path = hit.t * rng.uniform(kMinGhostRangeFactor, p.ghost_range_factor_max);
+      if (path > p.max_range) continue;
+    }
     // One detection per resolution cell (azimuth x elevation x range), as a radar resolves them.
     const std::array<long, 3> cell{std::lround(az / (p.azimuth_cell_deg * kDeg)),
                                    std::lround(el / (p.elevation_cell_deg * kDeg)),
-                                   std::lround(hit.t / p.range_cell)};
+                                   std::lround(path / p.range_cell)};
     if (!cells.insert(cell).second) continue;
-    const double range = hit.t + p.range_sigma * rng.normal();
+    const double range = path + p.range_sigma * rng.normal();
     const double az_m = az + p.azimuth_sigma_deg * kDeg * rng.normal();
     const double el_m = el + p.elevation_sigma_deg * kDeg * rng.normal();
     const Eigen::Vector3d measured = direction(az_m, el_m);
@@ -247,6 +254,7 @@ std::vector<RadarReturn> simulateRadar(const SyntheticScene& scene,
                                  10.0 * std::log10(std::max(0.05, incidence)) +
                                  p.rcs_sigma_db * rng.normal());
     ret.true_range = hit.t;
+    ret.ghost = ghost;
     finish(ret, measured);
     returns.push_back(ret);
   }

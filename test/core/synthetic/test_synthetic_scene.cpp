@@ -320,6 +320,39 @@ TEST(SyntheticScene, RadarPassThroughPutsReturnsBehindTheVisibleSurface) {
   }
 }
 
+// Multipath ghosts: the detection lies along the beam at 1.1 to ghost_range_factor_max times the
+// range of the surface the beam met, so behind the surface the camera sees there; without ghosts
+// (and noise) every surface return is at the surface's range.
+TEST(SyntheticScene, RadarGhostsLieAlongTheBeamBehindTheSurface) {
+  for (const double ghosts : {0.0, 0.5}) {
+    SCOPED_TRACE("ghosts " + std::to_string(ghosts));
+    syn::SyntheticDatasetParams p = noiseFree(smallParams(13, 1));
+    p.radar.clutter_fraction = 0.0;
+    p.radar.ghosts = ghosts;
+    p.radar.ghost_range_factor_max = 1.6;
+    const syn::SyntheticFrame frame = syn::SyntheticDataset(p).frame(0);
+    int ghost_count = 0;
+    for (const syn::RadarReturn& ret : frame.radar) {
+      const double ratio = ret.position.cast<double>().norm() / ret.true_range;
+      if (ret.ghost) {
+        ++ghost_count;
+        EXPECT_GE(ratio, syn::kMinGhostRangeFactor - 1e-5);
+        EXPECT_LE(ratio, 1.6 + 1e-5);
+      } else {
+        EXPECT_NEAR(ratio, 1.0, 1e-5);
+      }
+    }
+    ASSERT_GT(frame.radar.size(), 40u);
+    const double share = double(ghost_count) / frame.radar.size();
+    if (ghosts == 0.0) {
+      EXPECT_EQ(ghost_count, 0);
+    } else {
+      EXPECT_GT(share, 0.35);
+      EXPECT_LT(share, 0.65);
+    }
+  }
+}
+
 TEST(SyntheticScene, NoisyReturnsLieOnTheSurfacesWithinTheSimulatedNoise) {
   const std::string root = freshDir("noisy");
   const syn::SyntheticDatasetParams p = smallParams(12);
@@ -566,13 +599,15 @@ TEST(SyntheticScene, ToolTakesTheSceneVariationsAndRejectsBadOnes) {
                           " --scale 0.05 --num-frames 1 --quiet --lidar-azimuth-step 2 "
                           "--camera-height 2.2 --camera-pitch -4 --lidar-beams 16 "
                           "--radar-candidates 500 --radar-clutter 0.2 --vehicles 3 "
-                          "--pedestrians 5 --poles 4 --speed 10 --radar-pass-through 0.9");
+                          "--pedestrians 5 --poles 4 --speed 10 --radar-pass-through 0.9 "
+                          "--radar-ghosts 0.4 --radar-ghost-max-factor 1.8");
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   const std::string meta = readBytes(root + "/scene.json");
   for (const char* key :
        {"\"camera_height\": 2.2", "\"camera_pitch_deg\": -4", "\"lidar_beams\": 16",
         "\"radar_candidates\": 500", "\"pedestrians\": 5", "\"extra_poles\": 4",
-        "\"extra_vehicles\": 3", "\"radar_pass_through\": 0.9"}) {
+        "\"extra_vehicles\": 3", "\"radar_pass_through\": 0.9", "\"radar_ghosts\": 0.4",
+        "\"radar_ghost_range_factor_max\": 1.8"}) {
     EXPECT_NE(meta.find(key), std::string::npos) << key << " not in " << meta;
   }
   const struct {
@@ -584,6 +619,7 @@ TEST(SyntheticScene, ToolTakesTheSceneVariationsAndRejectsBadOnes) {
       {"--camera-pitch 45", "camera pitch", 1},
       {"--pedestrians -1", "occluders", 1},
       {"--radar-pass-through 1.5", "--radar-pass-through", 2},
+      {"--radar-ghost-max-factor 1.05", "--radar-ghost-max-factor", 2},
   };
   for (const auto& c : cases) {
     const auto r = runTool("--output " + root + " --scale 0.05 --num-frames 1 --quiet " + c.args);

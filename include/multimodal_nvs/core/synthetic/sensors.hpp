@@ -64,6 +64,9 @@ CameraImage renderCamera(const SyntheticScene& scene, const CameraModel& camera,
                          const Eigen::Isometry3d& camera_to_world, int supersample,
                          ThreadPool& pool);
 
+/// The shortest multipath ghost's range, as a factor of the surface's range.
+constexpr double kMinGhostRangeFactor = 1.1;
+
 struct RadarParams {
   int candidates = 1600;          ///< random beam directions tried per scan
   double azimuth_fov_deg = 60.0;  ///< +- field of view
@@ -87,6 +90,11 @@ struct RadarParams {
   /// nuScenes 0.42; scripts/radar_surface_offsets.py); the synthetic street 0.03-0.25 with 0,
   /// 0.27-0.42 with 0.9. 0 by default: the evaluation's scenes were made without it.
   double pass_through = 0.0;
+  /// Share of detections that are multipath ghosts: the echo came back over a longer path (via a
+  /// second reflector), so the detection lies along the beam at ghost_range_factor times the
+  /// surface's range, behind it and on no surface. 0 by default (see pass_through).
+  double ghosts = 0.0;
+  double ghost_range_factor_max = 2.0;  ///< a ghost's range factor is uniform in [1.1, this]
 };
 
 /// One radar return in the radar frame, as the VoD record x, y, z, RCS, v_r, v_r_compensated, time.
@@ -97,6 +105,7 @@ struct RadarReturn {
   float v_r_compensated = 0.f;
   float time = 0.f;
   bool clutter = false;     ///< not from a surface (simulation truth, not written to files)
+  bool ghost = false;       ///< a multipath ghost behind the surface hit (simulation truth)
   double true_range = 0.0;  ///< noise-free range of the surface hit (0 for clutter)
 };
 
