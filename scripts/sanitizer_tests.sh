@@ -134,8 +134,8 @@ run_asan() {
   local rc=0 out binary binary_rc
   declare -A pids
   for binary in test_core test_tools; do
-    mkdir -p "$RESULTS/tmp_$binary"
-    TEST_TMPDIR=$RESULTS/tmp_$binary/ "$(devel_dir "$dir")/lib/multimodal_nvs/$binary" \
+    mkdir -p "$dir/tmp_$binary"
+    TEST_TMPDIR=$(realpath -m "$dir/tmp_$binary")/ "$(devel_dir "$dir")/lib/multimodal_nvs/$binary" \
       --gtest_output="xml:$RESULTS/asan-gtest-$binary.xml" > "$RESULTS/asan_$binary.log" 2>&1 &
     pids[$binary]=$!
   done
