@@ -184,11 +184,14 @@ def common_errors(directory, keep=False):
     for input_name, _ in INPUTS:
         runs = sorted(d for d in os.listdir(base) if d.startswith(input_name + "_") and
                       os.path.isdir(os.path.join(base, d)))
+        frame_sets = [set(f for f in os.listdir(os.path.join(base, d)) if f.endswith("_errors.npy"))
+                      for d in runs]
+        # A model that failed before its first frame (the tables list it as failed) takes no part.
+        runs = [d for d, f in zip(runs, frame_sets) if f]
+        frame_sets = [f for f in frame_sets if f]
         models = [d[len(input_name) + 1:] for d in runs]
         if len(models) < 2:  # nothing to compare
             continue
-        frame_sets = [set(f for f in os.listdir(os.path.join(base, d)) if f.endswith("_errors.npy"))
-                      for d in runs]
         names = sorted(set.intersection(*frame_sets))
         frames = []
         for name in names:
