@@ -102,7 +102,7 @@ void declareOptions(CLI::App& app, Options& o) {
       ->group(sensors);
   app.add_option("--radar-ghost-max-factor", p.radar.ghost_range_factor_max,
                  "largest range factor of a ghost")
-      ->check(CLI::Range(1.1, 10.0))
+      ->check(CLI::Range(syn::kMinGhostRangeFactor, syn::kMaxGhostRangeFactor))
       ->group(sensors);
   app.add_option("--lidar-range-sigma", p.lidar.range_sigma, "LiDAR range noise (m)")
       ->check(mm::cli::atLeast(0))

@@ -68,7 +68,7 @@ void SyntheticDatasetParams::validate() const {
           "radar: pass-through share in [0, 1]");
   require(radar.ghosts >= 0.0 && radar.ghosts <= 1.0 &&
               radar.ghost_range_factor_max >= kMinGhostRangeFactor &&
-              radar.ghost_range_factor_max <= 10.0,
+              radar.ghost_range_factor_max <= kMaxGhostRangeFactor,
           "radar: ghost share in [0, 1] and ghost range factor in [1.1, 10]");
   require(lidar.rings >= 1 && lidar.azimuth_step_deg > 0.01 && lidar.range_sigma >= 0,
           "lidar: rings >= 1, azimuth step > 0.01 deg, noise >= 0");

@@ -64,8 +64,10 @@ CameraImage renderCamera(const SyntheticScene& scene, const CameraModel& camera,
                          const Eigen::Isometry3d& camera_to_world, int supersample,
                          ThreadPool& pool);
 
-/// The shortest multipath ghost's range, as a factor of the surface's range.
+/// The range of a multipath ghost, as a factor of the surface's range: at least the first, and
+/// RadarParams::ghost_range_factor_max may be at most the second.
 constexpr double kMinGhostRangeFactor = 1.1;
+constexpr double kMaxGhostRangeFactor = 10.0;
 
 struct RadarParams {
   int candidates = 1600;          ///< random beam directions tried per scan
@@ -91,10 +93,11 @@ struct RadarParams {
   /// 0.27-0.42 with 0.9. 0 by default: the evaluation's scenes were made without it.
   double pass_through = 0.0;
   /// Share of detections that are multipath ghosts: the echo came back over a longer path (via a
-  /// second reflector), so the detection lies along the beam at ghost_range_factor times the
-  /// surface's range, behind it and on no surface. 0 by default (see pass_through).
+  /// second reflector), so the detection lies along the beam at a range factor uniform in
+  /// [kMinGhostRangeFactor, ghost_range_factor_max] times the surface's range, behind it and on no
+  /// surface. 0 by default (see pass_through).
   double ghosts = 0.0;
-  double ghost_range_factor_max = 2.0;  ///< a ghost's range factor is uniform in [1.1, this]
+  double ghost_range_factor_max = 2.0;
 };
 
 /// One radar return in the radar frame, as the VoD record x, y, z, RCS, v_r, v_r_compensated, time.
