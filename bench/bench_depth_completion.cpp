@@ -381,8 +381,9 @@ void BM_Radar08350_GlobalSmoother(benchmark::State& state) {
   }
 }
 
-// ground_gp's image sky alone (applyImageSky: the sky test on the camera image above the top
-// returns) on VoD 00549's LiDAR sweep (167,772 returns, 360 degrees) at full resolution.
+// ground_gp's image sky alone (imageSkyMask and applySkyMask: the sky test on the camera image
+// above the top returns) on VoD 00549's LiDAR sweep (167,772 returns, 360 degrees) at full
+// resolution.
 void BM_Lidar00549_ImageSky(benchmark::State& state) {
   const Scan* scan = loadScan(549, "lidar");
   if (scan == nullptr) return state.SkipWithError("VoD data not found");
@@ -398,7 +399,7 @@ void BM_Lidar00549_ImageSky(benchmark::State& state) {
   out.variance.assign(out.mean.size(), 1.0f);
   mm::ThreadPool pool(0);
   for (auto _ : state) {
-    mm::applyImageSky(samples, grid, params, plane, image, pool, out);
+    mm::applySkyMask(mm::imageSkyMask(samples, grid, params, plane, image, pool), params, out);
     benchmark::DoNotOptimize(out.mean.data());
   }
 }

@@ -128,7 +128,7 @@ std::vector<int> topReturnRows(const std::vector<AngularSample>& samples,
 }
 
 /// skyMask with the model's sky parameters: the one place that says which parameters make the test
-/// (image_guided's own sky and ground_gp's, applyImageSky).
+/// (image_guided's own sky and ground_gp's, imageSkyMask).
 std::vector<std::uint8_t> skyMaskOf(const cv::Mat& guide, const std::vector<float>& prior,
                                     const std::vector<int>& top_return_row,
                                     const ImageGuidedParams& g, ThreadPool& pool) {
@@ -291,13 +291,20 @@ void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict su
 
 }  // namespace
 
-void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                   const ImageGuidedParams& g, const GroundPlane& plane, const cv::Mat& image,
-                   ThreadPool& pool, PixelPredictions& out) {
+std::vector<std::uint8_t> imageSkyMask(const std::vector<AngularSample>& samples,
+                                       const PixelAngleGrid& angles, const ImageGuidedParams& g,
+                                       const GroundPlane& plane, const cv::Mat& image,
+                                       ThreadPool& pool) {
+  return skyMaskOf(guideOnGrid(image, angles.grid()),
+                   groundPriorDepth(angles, plane, g.far_depth, &pool),
+                   topReturnRows(samples, angles, g.splat_radius_px), g, pool);
+}
+
+void applySkyMask(const std::vector<std::uint8_t>& sky, const ImageGuidedParams& g,
+                  PixelPredictions& out) {
+  if (sky.size() != out.mean.size() || sky.size() != out.variance.size())
+    throw InputError("applySkyMask: the sky mask and the prediction differ in size");
   const float far = static_cast<float>(g.far_depth);
-  const std::vector<std::uint8_t> sky = skyMaskOf(
-      guideOnGrid(image, angles.grid()), groundPriorDepth(angles, plane, g.far_depth, &pool),
-      topReturnRows(samples, angles, g.splat_radius_px), g, pool);
   const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
   forEachSetByte(sky.data(), static_cast<int>(sky.size()), [&](int i) {
     out.mean[i] = far;

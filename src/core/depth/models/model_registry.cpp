@@ -127,10 +127,14 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     if (ground) *ground = choice;
   }
   if (params.model == DepthModel::kGroundGp) {
+    // The image's sky does not depend on the prediction: found first, while the triangulation
+    // (dense input) still runs on its thread, it fills the core that would wait for the triangles.
+    std::vector<std::uint8_t> sky;
+    if (params.ground.image_sky && !image.empty())
+      sky = imageSkyMask(samples, angles, params.guided, choice.plane, image, pool);
     const int sets = predictGroundGpModel(samples, angles, params, choice, shift, pool, out, ground,
                                           scratch, triangulation);
-    if (params.ground.image_sky && !image.empty())
-      applyImageSky(samples, angles, params.guided, choice.plane, image, pool, out);
+    if (!sky.empty()) applySkyMask(sky, params.guided, out);
     return sets;
   }
   if (params.model == DepthModel::kImageGuided) {

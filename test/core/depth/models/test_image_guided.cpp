@@ -331,6 +331,26 @@ TEST(ImageGuided, GroundGpTakesTheImagesSkyWhenAsked) {
   EXPECT_EQ(sky.variance[below], plain.variance[below]);
 }
 
+// The sky is found before the prediction exists (ground_gp computes it while its triangulation
+// runs) and applied afterwards: exactly the mask's pixels change, and a mask of another grid is
+// refused rather than written past the prediction.
+TEST(ImageGuided, SkyMaskSetsExactlyItsPixelsAndRefusesAnotherSize) {
+  mm::ImageGuidedParams g;
+  g.far_depth = 80.0;
+  g.sky_sigma = 3.0;
+  mm::PixelPredictions out;
+  out.mean.assign(6, 5.0f);
+  out.variance.assign(6, 0.5f);
+  const std::vector<std::uint8_t> sky = {0, 1, 0, 0, 1, 1};
+  mm::applySkyMask(sky, g, out);
+  for (std::size_t i = 0; i < sky.size(); ++i) {
+    EXPECT_FLOAT_EQ(out.mean[i], sky[i] ? 80.0f : 5.0f) << i;
+    EXPECT_FLOAT_EQ(out.variance[i], sky[i] ? 9.0f : 0.5f) << i;
+  }
+  EXPECT_THROW(mm::applySkyMask(std::vector<std::uint8_t>(7, 1), g, out), mm::InputError);
+  EXPECT_FLOAT_EQ(out.mean[0], 5.0f);
+}
+
 TEST(ImageGuided, SkyStopsAtTheFirstReturnOfAColumn) {
   const cv::Mat bright(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(220));
   std::vector<float> far(std::size_t(smallImage().height) * kCols, 100.0f);

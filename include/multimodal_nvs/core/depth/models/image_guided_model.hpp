@@ -29,12 +29,19 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
                         const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
                         const PixelPredictions* model_prior = nullptr);
 
-/// Another model's prediction with the image's sky (skyMask on the ground plane's horizon and the
-/// returns' top rows, guided.sky_* parameters) set to guided.far_depth and variance
-/// guided.sky_sigma^2. Throws InputError for an unusable image (guideOnGrid).
-void applyImageSky(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                   const ImageGuidedParams& guided, const GroundPlane& plane, const cv::Mat& image,
-                   ThreadPool& pool, PixelPredictions& out);
+/// The image's sky on the grid for another model's prediction (skyMask on the ground plane's
+/// horizon and the returns' top rows, guided.sky_* parameters): 1 where sky. It does not depend on
+/// the prediction, so it can be computed while the prediction is still being made. Throws
+/// InputError for an unusable image (guideOnGrid).
+std::vector<std::uint8_t> imageSkyMask(const std::vector<AngularSample>& samples,
+                                       const PixelAngleGrid& angles,
+                                       const ImageGuidedParams& guided, const GroundPlane& plane,
+                                       const cv::Mat& image, ThreadPool& pool);
+
+/// The prediction with imageSkyMask()'s sky set to guided.far_depth and variance
+/// guided.sky_sigma^2.
+void applySkyMask(const std::vector<std::uint8_t>& sky, const ImageGuidedParams& guided,
+                  PixelPredictions& out);
 
 /// The image at the grid's pixels (u = 0, s, 2s, ...), 8-bit BGR. Throws InputError when the image
 /// is empty, of another size than grid.image or of an unsupported type.
