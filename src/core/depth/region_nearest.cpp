@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace multimodal_nvs {
 namespace {
@@ -17,7 +18,6 @@ void RegionNearest::gather(const AngularBins& bins, double az, double el, double
   el_.clear();
   centre2_.clear();
   index_.clear();
-  last_.clear();
   const double radius2 = radius * radius;
   bins.queryDisc(az, el, radius, [&](int i, float sample_az, float sample_el) {
     const double sa = sample_az, se = sample_el;
@@ -72,7 +72,10 @@ double RegionNearest::gatherAround(const AngularBins& bins, double az, double el
     break;
   }
   distance2_.resize(index_.size());
+  order_.resize(index_.size());
   passed_.resize(index_.size());
+  in_head_.resize(index_.size());
+  head_ = 0;
   return bound;
 }
 
@@ -81,7 +84,6 @@ void RegionNearest::nearest(double az, double el, std::size_t k,
   out.clear();
   const std::size_t m = index_.size();
   if (k == 0 || m == 0) return;
-  best_.resize(k);
   // The same expression as AngularBins' walk (the package builds without FMA contraction), so the
   // squared distances, and with them the order and the ties, are the same bits. A plain loop over
   // the region: it vectorises.
@@ -92,43 +94,57 @@ void RegionNearest::nearest(double az, double el, std::size_t k,
     const double da = sa[i] - az, de = se[i] - el;
     d2[i] = da * da + de * de;
   }
-  // The previous answer's k samples are within `bound` of this query, so its k nearest are too.
-  double bound = INFINITY;
-  if (last_.size() == k) {
-    bound = 0.0;
-    for (const int p : last_)
-      bound = std::max(bound, d2[p]);
+  // `order_` holds the previous query's answer, nearest first (after a gather or with another k:
+  // the first k gathered). A query's neighbour is a pixel or two away, so that answer
+  // is nearly this one's: it is re-sorted by insertion (mostly without a move), and another
+  // sample enters only when it beats the answer's last. Exact for any starting answer; the near
+  // start only makes the branches predictable (a fresh insertion sort of the candidates under a
+  // bound mispredicted about once per candidate).
+  const int* __restrict const index = index_.data();
+  const auto before = [&](int a, int b) {
+    return d2[a] < d2[b] || (d2[a] == d2[b] && index[a] < index[b]);
+  };
+  const std::size_t head = std::min(k, m);
+  int* const order = order_.data();
+  std::uint8_t* __restrict const in_head = in_head_.data();
+  if (head != head_) {
+    // A new region or another k: any distinct start will do (only the first head_ entries of
+    // order_ are kept up to date).
+    std::fill(in_head_.begin(), in_head_.end(), std::uint8_t{0});
+    for (std::size_t j = 0; j < head; ++j) {
+      order[j] = static_cast<int>(j);
+      in_head[j] = 1;
+    }
+    head_ = head;
   }
-  // The candidates under the bound, compacted without a branch (whether a candidate passes is
-  // unpredictable, and a mispredicted branch per candidate cost more than the test).
+  for (std::size_t j = 1; j < head; ++j) {
+    const int p = order[j];
+    std::size_t i = j;
+    for (; i > 0 && before(p, order[i - 1]); --i)
+      order[i] = order[i - 1];
+    order[i] = p;
+  }
+  // The others that may enter: within the answer's last distance (it only shrinks as samples
+  // enter), listed without a branch (whether one passes is unpredictable), then decided exactly.
+  const double worst = d2[order[head - 1]];
   int* __restrict const passed = passed_.data();
   std::size_t n = 0;
   for (std::size_t i = 0; i < m; ++i) {
     passed[n] = static_cast<int>(i);
-    n += d2[i] <= bound;
+    n += (d2[i] <= worst) & (in_head[i] == 0);
   }
-  // Inserted by shifting into a sorted list: k is small and few candidates pass. (Swapping two
-  // adjacent ints compiled to an overlapping 8-byte rotate in memory, a store-forwarding stall.)
-  std::size_t found = 0;
   for (std::size_t q = 0; q < n; ++q) {
-    const int i = passed[q];
-    const Candidate candidate{d2[i], index_[i], i};
-    std::size_t j = found;
-    if (found == k) {
-      if (!(candidate < best_[k - 1])) continue;
-      j = k - 1;
-    } else {
-      ++found;
-    }
-    for (; j > 0 && candidate < best_[j - 1]; --j)
-      best_[j] = best_[j - 1];
-    best_[j] = candidate;
+    const int p = passed[q];
+    if (!before(p, order[head - 1])) continue;
+    in_head[order[head - 1]] = 0;
+    in_head[p] = 1;
+    std::size_t i = head - 1;
+    for (; i > 0 && before(p, order[i - 1]); --i)
+      order[i] = order[i - 1];
+    order[i] = p;
   }
-  last_.resize(found);
-  for (std::size_t j = 0; j < found; ++j) {
-    out.emplace_back(best_[j].distance2, best_[j].index);
-    last_[j] = best_[j].position;
-  }
+  for (std::size_t j = 0; j < head; ++j)
+    out.emplace_back(d2[order[j]], index[order[j]]);
 }
 
 }  // namespace multimodal_nvs

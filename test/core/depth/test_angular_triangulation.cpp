@@ -201,6 +201,30 @@ TEST(RegionNearest, AnswersEqualTheBinSearchEverywhereInTheRegion) {
   }
 }
 
+TEST(RegionNearest, KChangingBetweenQueriesOfOneRegionStillGivesTheExactAnswer) {
+  // Each query starts from the previous answer; a different k, or a query far from the last one,
+  // must only cost time.
+  std::mt19937 random(5);
+  std::vector<mm::AngularSample> samples = randomSamples(random);
+  for (int i = 0; i < 20; ++i)
+    samples.push_back(samples[i * 3]);  // ties
+  const mm::AngularBins bins(samples, 0.15);
+  const mm::AngularBins gather_bins(samples, 0.5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  mm::RegionNearest region;
+  std::vector<std::pair<double, int>> found, exact;
+  const double caz = 0.3, cel = -0.2, extent = 0.3;
+  region.gatherAround(gather_bins, caz, cel, extent, 10, 0.2);
+  for (int q = 0; q < 200; ++q) {
+    const std::size_t k = 1 + (q * 7) % 10;
+    const double qaz = caz + extent * unit(random) / std::sqrt(2.0);
+    const double qel = cel + extent * unit(random) / std::sqrt(2.0);
+    region.nearest(qaz, qel, k, found);
+    bins.nearest(qaz, qel, static_cast<int>(k), exact);
+    ASSERT_EQ(found, exact) << "query " << q << " k " << k;
+  }
+}
+
 TEST(RegionNearest, FewerSamplesThanKGathersThemAll) {
   const std::vector<mm::AngularSample> samples = {
       {0.0f, 0.0f, 5.0f}, {3.0f, 1.0f, 6.0f}, {-40.0f, 10.0f, 7.0f}};

@@ -2,6 +2,7 @@
 // k-nearest queries for many points of one small region (the pixels of an image tile), answered
 // from the samples gathered once around it instead of a bin walk per query.
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 #include <vector>
 
@@ -27,8 +28,8 @@ class RegionNearest {
   std::size_t size() const { return index_.size(); }
 
   /// The (at most) k gathered samples nearest to (az, el) as (squared distance, sample index),
-  /// nearest first, ties by index. The previous query's answer in this region (if it had k
-  /// samples) bounds this one's k-th distance, so only the samples within that bound are sorted.
+  /// nearest first, ties by index. Cheapest when each query is near the previous one in the
+  /// region (the order of the last answer is then nearly this one's).
   void nearest(double az, double el, std::size_t k, std::vector<std::pair<double, int>>& out);
 
  private:
@@ -37,20 +38,14 @@ class RegionNearest {
   /// Keeps the gathered samples at squared distance <= radius2 from the centre.
   void keepWithin(double radius2);
 
-  struct Candidate {
-    double distance2;
-    int index, position;
-    bool operator<(const Candidate& o) const {
-      return distance2 < o.distance2 || (distance2 == o.distance2 && index < o.index);
-    }
-  };
   std::vector<double> az_, el_;  // of the gathered samples (the bins' float angles, widened)
   std::vector<double> centre2_;  // squared distance to the region's centre
   std::vector<int> index_;
   std::vector<double> distance2_;  // of the current query, by gathered position
-  std::vector<int> passed_;        // positions under the current query's bound
-  std::vector<Candidate> best_;    // the current query's k nearest so far
-  std::vector<int> last_;          // gathered positions of the previous answer
+  std::vector<int> order_;         // its first head_: the last answer's positions, nearest first
+  std::vector<int> passed_;        // positions that may enter the current answer
+  std::vector<std::uint8_t> in_head_;  // by gathered position: in the first head_ of order_
+  std::size_t head_ = 0;
 };
 
 }  // namespace multimodal_nvs
