@@ -41,15 +41,35 @@ std::size_t AngularBins::binOf(const AngularSample& s) const {
 void AngularBins::collect(double az, double el, double reach, std::size_t k, double bound,
                           std::vector<std::pair<double, int>>& out) const {
   out.clear();
-  // The k smallest (distance, index) pairs are kept sorted by insertion: k is small (8) and most
-  // candidates fail the first comparison, where collecting every candidate and partitioning them
-  // (nth_element) mispredicted its branches. Each bin row is walked only across the disc of radius
-  // `reach`: at the row's nearest elevation to the query the disc is 2 sqrt(reach^2 - dy^2) wide
-  // (a square walk visits 4/pi times the samples). Samples outside the disc are farther than
-  // reach, and the caller accepts the result only if the k-th distance is within reach, so
-  // skipping them changes nothing.
-  forEachDiscRow(az, el, reach, [&](int begin, int end) {
-    for (int b = begin; b < end; ++b) {
+  if (order_.empty()) return;
+  const auto [y0, y1] = binSpan(el - reach, el + reach, min_el_, ny_);
+  if (y0 > y1) return;
+  // Nothing at a squared distance above `limit` can enter: beyond the disc of radius `reach` (the
+  // caller accepts the result only if the k-th distance is within it), beyond `bound`, or, once k
+  // are found, beyond the k-th. Widened far above the rounding of the bins' edges, so that a
+  // sample at exactly the k-th distance (a tie, decided by index) is still visited.
+  const double reach2 = reach * reach;
+  const auto limit = [&] {
+    double c = std::min(reach2, bound);
+    if (out.size() == k) c = std::min(c, out.back().first);
+    return c * (1.0 + 1e-9) + 1e-12;
+  };
+  // One bin row, walked only across the disc's chord at the row's nearest elevation to the query
+  // (a square walk visits 4/pi times the samples). False when the row lies beyond the limit, and
+  // with it every row farther from the query.
+  const auto walk_row = [&](int y) {
+    const double row_lo = min_el_ + y * bin_, row_hi = row_lo + bin_;
+    const double dy = el < row_lo ? row_lo - el : (el > row_hi ? el - row_hi : 0.0);
+    const double c = limit();
+    if (dy * dy > c) return false;
+    const double half = std::sqrt(c - dy * dy);
+    const auto [x0, x1] = binSpan(az - half, az + half, min_az_, nx_);
+    if (x0 > x1) return true;
+    const std::size_t first = std::size_t(y) * nx_;
+    // The k smallest (distance, index) pairs are kept sorted by insertion: k is small (8) and
+    // most candidates fail the first comparison, where collecting every candidate and
+    // partitioning them (nth_element) mispredicted its branches.
+    for (int b = start_[first + x0]; b < start_[first + x1 + 1]; ++b) {
       const double da = binned_az_[b] - az, de = binned_el_[b] - el;
       const std::pair<double, int> candidate(da * da + de * de, order_[b]);
       if (candidate.first > bound) continue;
@@ -62,7 +82,18 @@ void AngularBins::collect(double az, double el, double reach, std::size_t k, dou
       for (std::size_t i = out.size() - 1; i > 0 && out[i] < out[i - 1]; --i)
         std::swap(out[i], out[i - 1]);
     }
-  });
+    return true;
+  };
+  // Rows outward from the query's own, alternately below and above: once k are found, the k-th
+  // distance stops the walk early (a query above the top scan line used to walk every row of
+  // the disc, though the answer lies in the first).
+  int below = std::clamp(static_cast<int>(std::floor((el - min_el_) / bin_)), y0, y1);
+  int above = below + 1;
+  bool more_below = true, more_above = above <= y1;
+  while (more_below || more_above) {
+    if (more_below) more_below = walk_row(below) && --below >= y0;
+    if (more_above) more_above = walk_row(above) && ++above <= y1;
+  }
 }
 
 void AngularBins::nearest(double az, double el, int k, std::vector<std::pair<double, int>>& out,

@@ -160,6 +160,39 @@ TEST(AngularBins, NearestEqualsABruteForceSearch) {
   }
 }
 
+TEST(AngularBins, NearestOnScanLinesFromAboveAndOnTiesEqualsABruteForceSearch) {
+  // LiDAR-like scan lines on a regular grid (many exactly equal distances, decided by index, in
+  // different bin rows and columns), queried from far above the top line (the sky: the walk stops
+  // after the first rows), from below, and at points midway between lines and columns.
+  std::vector<mm::AngularSample> samples;
+  for (int line = 0; line < 8; ++line) {
+    for (int c = 0; c < 200; ++c)
+      samples.push_back({-20.0f + 0.25f * c, -10.0f + 1.5f * line, 10.0f});
+  }
+  samples.push_back(samples[333]);  // a duplicate direction
+  std::mt19937 random(3);
+  std::uniform_int_distribution<int> column(0, 200);
+  for (double bin : {0.5, 1.0, 4.0}) {
+    const mm::AngularBins bins(samples, bin);
+    std::vector<std::pair<double, int>> found;
+    for (int q = 0; q < 240; ++q) {
+      const double qaz = -20.0 + 0.125 * column(random);
+      const double qel =
+          q % 3 == 0 ? 3.0 + 0.37 * (q % 40) : (q % 3 == 1 ? -12.0 : -9.25 + 0.75 * (q % 12));
+      const int k = 1 + q % 9;
+      bins.nearest(qaz, qel, k, found, q % 2 ? 0.0 : 0.1 * (q % 5));
+      std::vector<std::pair<double, int>> all;
+      for (std::size_t i = 0; i < samples.size(); ++i) {
+        const double da = samples[i].azimuth_deg - qaz, de = samples[i].elevation_deg - qel;
+        all.emplace_back(da * da + de * de, int(i));
+      }
+      std::sort(all.begin(), all.end());
+      all.resize(k);
+      ASSERT_EQ(found, all) << "bin " << bin << " query " << q << " at " << qaz << ", " << qel;
+    }
+  }
+}
+
 TEST(RegionNearest, AnswersEqualTheBinSearchEverywhereInTheRegion) {
   std::mt19937 random(11);
   auto az = kRandomAzimuth;
