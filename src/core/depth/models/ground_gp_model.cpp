@@ -14,11 +14,13 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <optional>
 #include <type_traits>
 
+#include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/common/vectorisable_math.hpp"
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
@@ -346,6 +348,33 @@ struct DenseVertexInfo {
   bool same[3][3];
   bool edge;  ///< some pair of vertices lies on different surfaces
   float longest_edge_deg;
+};
+
+/// The ground plane's depth along a triangle vertex's direction, remembered for the directions
+/// seen last (direct-mapped on the angles' bits, so a hit returns the very bits a computation
+/// would): a vertex belongs to ~6 triangles, mostly near one another in the triangulation's
+/// order, and its two tangents and cosine were most of the triangles' per-vertex pass.
+class PlaneDepthCache {
+ public:
+  double operator()(const GroundPlane& plane, double az, double el) {
+    std::uint64_t az_bits = 0, el_bits = 0;
+    std::memcpy(&az_bits, &az, sizeof az);
+    std::memcpy(&el_bits, &el, sizeof el);
+    Entry& entry = entries_[((az_bits * 0x9E3779B97F4A7C15ull) ^ el_bits) >> (64 - kBits)];
+    if (entry.filled && entry.az_bits == az_bits && entry.el_bits == el_bits) return entry.depth;
+    const Eigen::Vector2d ray = normalisedFromAngles(az, el);
+    entry = {az_bits, el_bits, plane.depthAlong(ray.x(), ray.y()), true};
+    return entry.depth;
+  }
+
+ private:
+  static constexpr int kBits = 10;
+  struct Entry {
+    std::uint64_t az_bits = 0, el_bits = 0;
+    double depth = 0.0;
+    bool filled = false;
+  };
+  std::vector<Entry> entries_ = std::vector<Entry>(std::size_t{1} << kBits);
 };
 
 /// The pixels of one box row of a triangle without an occlusion edge (one surface; most pixels of
@@ -728,14 +757,14 @@ void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionPar
   std::vector<DenseVertexInfo> info(triangles.size());
   const double ratio = 1.0 + g.dense_edge_ratio;
   const double rel2 = g.dense_relative_sigma * g.dense_relative_sigma;
+  PerWorker<PlaneDepthCache> plane_depths(pool.size());
   pool.parallelFor(
       static_cast<long long>(triangles.size()),
-      [&](long long i, int) {
+      [&](long long i, int worker) {
         const AngularTriangle& t = triangles[i];
         DenseVertexInfo& v = info[i];
         for (int j = 0; j < 3; ++j) {
-          const Eigen::Vector2d ray = normalisedFromAngles(t.az[j], t.el[j]);
-          const double plane_depth = plane.depthAlong(ray.x(), ray.y());
+          const double plane_depth = plane_depths[worker](plane, t.az[j], t.el[j]);
           v.ground[j] = t.z[j] >= (1.0 - kGroundMargin) * plane_depth;
           v.plane_ratio[j] = v.ground[j] ? static_cast<float>(t.z[j] / plane_depth) : 0.0f;
           v.longest_edge_deg =
