@@ -135,6 +135,19 @@ std::vector<mm::AngularSample> randomSamples(std::mt19937& random) {
   return samples;
 }
 
+/// The k samples nearest to (az, el) as (squared distance, index), nearest first, ties by index.
+std::vector<std::pair<double, int>> bruteForceNearest(const std::vector<mm::AngularSample>& samples,
+                                                      double az, double el, int k) {
+  std::vector<std::pair<double, int>> all;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const double da = samples[i].azimuth_deg - az, de = samples[i].elevation_deg - el;
+    all.emplace_back(da * da + de * de, int(i));
+  }
+  std::sort(all.begin(), all.end());
+  all.resize(std::min<std::size_t>(all.size(), std::size_t(k)));
+  return all;
+}
+
 TEST(AngularBins, NearestEqualsABruteForceSearch) {
   std::mt19937 random(7);
   auto az = kRandomAzimuth;
@@ -148,13 +161,7 @@ TEST(AngularBins, NearestEqualsABruteForceSearch) {
       const double qaz = 1.3 * az(random), qel = 1.3 * el(random);
       const int k = 1 + q % 12;
       bins.nearest(qaz, qel, k, found, q % 2 ? 0.0 : 0.05 * (q % 7));
-      std::vector<std::pair<double, int>> all;
-      for (std::size_t i = 0; i < samples.size(); ++i) {
-        const double da = samples[i].azimuth_deg - qaz, de = samples[i].elevation_deg - qel;
-        all.emplace_back(da * da + de * de, int(i));
-      }
-      std::sort(all.begin(), all.end());
-      all.resize(k);
+      const std::vector<std::pair<double, int>> all = bruteForceNearest(samples, qaz, qel, k);
       ASSERT_EQ(found, all) << "bin " << bin << " query " << q;
     }
   }
@@ -181,13 +188,7 @@ TEST(AngularBins, NearestOnScanLinesFromAboveAndOnTiesEqualsABruteForceSearch) {
           q % 3 == 0 ? 3.0 + 0.37 * (q % 40) : (q % 3 == 1 ? -12.0 : -9.25 + 0.75 * (q % 12));
       const int k = 1 + q % 9;
       bins.nearest(qaz, qel, k, found, q % 2 ? 0.0 : 0.1 * (q % 5));
-      std::vector<std::pair<double, int>> all;
-      for (std::size_t i = 0; i < samples.size(); ++i) {
-        const double da = samples[i].azimuth_deg - qaz, de = samples[i].elevation_deg - qel;
-        all.emplace_back(da * da + de * de, int(i));
-      }
-      std::sort(all.begin(), all.end());
-      all.resize(k);
+      const std::vector<std::pair<double, int>> all = bruteForceNearest(samples, qaz, qel, k);
       ASSERT_EQ(found, all) << "bin " << bin << " query " << q << " at " << qaz << ", " << qel;
     }
   }
