@@ -17,6 +17,7 @@
 
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/direction_sort.hpp"
 #include "multimodal_nvs/core/depth/hidden_returns.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 
@@ -171,11 +172,7 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
 
   // One vertex per direction: a repeated direction keeps its nearest return (sorted by direction,
   // then depth, the first of each run).
-  std::sort(samples.begin(), samples.end(), [](const AngularSample& a, const AngularSample& b) {
-    if (a.elevation_deg != b.elevation_deg) return a.elevation_deg < b.elevation_deg;
-    if (a.azimuth_deg != b.azimuth_deg) return a.azimuth_deg < b.azimuth_deg;
-    return a.depth < b.depth;
-  });
+  sortByDirectionThenDepth(samples);
   std::vector<std::pair<DelaunayPoint, int>> vertices;
   vertices.reserve(samples.size());
   for (std::size_t i = 0; i < samples.size(); ++i) {
