@@ -36,6 +36,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.ground.surface_k = config.ground_surface_k;
   p.ground.surface_rank = config.ground_surface_rank;
   p.ground.surface_step_px = config.ground_surface_step_px;
+  p.ground.surface_colour_sigma = config.ground_surface_colour_sigma;
   p.ground.residual_amplitude = config.ground_residual_amplitude;
   p.ground.relative_sigma = config.ground_relative_sigma;
   p.ground.relative_sigma_per_deg = config.ground_relative_sigma_per_deg;
@@ -50,6 +51,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   g.iterations = config.guided_iterations;
   g.smooth_scale = config.guided_smooth_scale;
   g.prior_step_px = config.guided_prior_step_px;
+  g.prior_colour_sigma = config.guided_prior_colour_sigma;
   g.prior_weight = config.guided_prior_weight;
   g.far_depth = config.guided_far_depth;
   g.ground_prior = config.guided_ground_prior;
@@ -96,6 +98,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.ground_surface_k = p.ground.surface_k;
   config.ground_surface_rank = p.ground.surface_rank;
   config.ground_surface_step_px = p.ground.surface_step_px;
+  config.ground_surface_colour_sigma = p.ground.surface_colour_sigma;
   config.ground_residual_amplitude = p.ground.residual_amplitude;
   config.ground_relative_sigma = p.ground.relative_sigma;
   config.ground_relative_sigma_per_deg = p.ground.relative_sigma_per_deg;
@@ -110,6 +113,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.guided_iterations = g.iterations;
   config.guided_smooth_scale = g.smooth_scale;
   config.guided_prior_step_px = g.prior_step_px;
+  config.guided_prior_colour_sigma = g.prior_colour_sigma;
   config.guided_prior_weight = g.prior_weight;
   config.guided_far_depth = g.far_depth;
   config.guided_ground_prior = g.ground_prior;

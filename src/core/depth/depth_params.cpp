@@ -117,6 +117,9 @@ void DepthCompletionParams::validate() const {
       fail("ground surface_k >= 1 and 1 <= surface_rank <= surface_k");
     }
     if (ground.surface_step_px < 1) fail("ground surface_step_px must be >= 1");
+    if (!(ground.surface_colour_sigma >= 0.0) || !std::isfinite(ground.surface_colour_sigma)) {
+      fail("ground surface_colour_sigma must be >= 0");
+    }
     if (ground.scan_origin_known &&
         !(std::isfinite(ground.scan_origin_x) && std::isfinite(ground.scan_origin_y) &&
           std::isfinite(ground.scan_origin_z))) {
@@ -157,6 +160,9 @@ void ImageGuidedParams::validate(const GroundPriorParams& plane) const {
   if (splat_radius_px < 0 || splat_radius_px > 16) fail("splat_radius_px must be in [0, 16]");
   if (smooth_scale < 1 || smooth_scale > 8) fail("smooth_scale must be in [1, 8]");
   if (prior_step_px < 1 || prior_step_px > 16) fail("prior_step_px must be in [1, 16]");
+  if (!(prior_colour_sigma >= 0.0) || !std::isfinite(prior_colour_sigma)) {
+    fail("prior_colour_sigma must be >= 0");
+  }
   if (ground_prior) {
     if (!(plane.camera_height > 0.0)) fail("needs ground camera_height > 0");
     if (!(std::abs(plane.up_x) + std::abs(plane.up_y) + std::abs(plane.up_z) > 0.0)) {

@@ -149,6 +149,7 @@ struct BruteForceScratch {
   std::vector<std::uint64_t> keys;  // the candidates' distanceKey()
   std::vector<std::uint64_t> best;  // the kk nearest as distanceKey(), ascending (+1 spare slot)
   std::vector<float> depths;
+  std::vector<float> weights;  // the depths' colour weights (nearestSurfaceRows with colours)
 };
 
 // (squared distance, index) as one integer that orders like the pair (non-negative floats order
@@ -296,7 +297,8 @@ double nextRadius(double kth_distance, float qaz, float qel, float next_az, floa
 
 NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
                                       const PixelAngleGrid& angles, int k, int rank, int step,
-                                      ThreadPool& pool, const std::vector<AngularSample>* support) {
+                                      ThreadPool& pool, const std::vector<AngularSample>* support,
+                                      const SurfaceColours* colours) {
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
   NearestSurfaceRows out;
@@ -316,6 +318,9 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
     }
   }
   const bool separate_support = support != nullptr;
+  // Each front sample's colour, when the image weighs the samples.
+  const std::vector<CellColour> front_colours =
+      colours != nullptr ? colours->atSamples(front, angles) : std::vector<CellColour>{};
   // Lattice nodes at every step-th row/column plus the last one, so interpolation covers the grid.
   auto nodes = [step](int size) {
     std::vector<int> n;
@@ -356,6 +361,7 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
       s.best.resize(kk + 1);
     }
     s.depths.reserve(kk);
+    s.weights.reserve(kk);
   }
   PerWorker<std::vector<std::pair<double, int>>> binned(pool.size());
   pool.parallelFor(static_cast<long long>(node_rows.size()), [&](long long i, int worker) {
@@ -410,6 +416,12 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
         radius = nextRadius(std::sqrt(kth), qaz, qel, next_az, next_el);
         for (std::size_t t = 0; t < kk; ++t)
           d.push_back(front[keyIndex(s.best[t])].depth);
+        if (colours != nullptr) {
+          const CellColour node = colours->at(double(c) * grid.stride, double(r) * grid.stride);
+          s.weights.clear();
+          for (std::size_t t = 0; t < kk; ++t)
+            s.weights.push_back(colours->weight(node, front_colours[keyIndex(s.best[t])]));
+        }
       } else {
         bins.nearest(qaz, qel, k, found, previous_kth);
         nearest_d2 = found.front().first;
@@ -417,10 +429,19 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
           kth = std::max(kth, nn.first);
           d.push_back(front[nn.second].depth);
         }
+        if (colours != nullptr) {
+          const CellColour node = colours->at(double(c) * grid.stride, double(r) * grid.stride);
+          s.weights.clear();
+          for (const auto& nn : found)
+            s.weights.push_back(colours->weight(node, front_colours[nn.second]));
+        }
         previous_kth = std::sqrt(kth) * 1.1;
       }
       const std::size_t pick = std::min<std::size_t>(std::max(rank, 1) - 1, d.size() - 1);
-      node_depth[i * lattice_cols + j] = orderStatistic(d, pick);
+      node_depth[i * lattice_cols + j] =
+          colours != nullptr
+              ? weightedOrderStatistic(d, s.weights, (double(pick) + 0.5) / double(d.size()))
+              : orderStatistic(d, pick);
       node_distance[i * lattice_cols + j] =
           separate_support ? support_distance : static_cast<float>(std::sqrt(nearest_d2));
     }

@@ -87,6 +87,11 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "lattice step of the surface prior (pixels)")
       ->check(atLeast(1))
       ->group(kGround);
+  app.add_option("--surface-colour-sigma", g.surface_colour_sigma,
+                 "surface prior: weigh the samples by the colour of their pixel against the "
+                 "pixel's (Gaussian of this distance, 0..255 per channel; 0: off)")
+      ->check(atLeast(0))
+      ->group(kGround);
   app.add_option("--relative-sigma", g.relative_sigma, "prior std / depth at a sample")
       ->check(atLeast(0))
       ->group(kGround);
@@ -135,6 +140,11 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
   app.add_option("--guided-prior-step-px", ig.prior_step_px,
                  "image pixels between the samples of ground_gp's prior (interpolated between)")
       ->check(CLI::Range(1, 16))
+      ->group(guided);
+  app.add_option("--guided-prior-colour-sigma", ig.prior_colour_sigma,
+                 "ground_gp's prior weighs its nearest returns by their pixel's colour against the "
+                 "pixel's (Gaussian of this distance, 0..255 per channel; 0: off)")
+      ->check(atLeast(0))
       ->group(guided);
   app.add_option("--guided-prior-weight", ig.prior_weight, "confidence of the prior per pixel")
       ->check(atLeast(0))

@@ -160,24 +160,40 @@ TEST(GroundPlaneEstimate, RadarLikeReturnsKeepTheGivenPlaneAndTheSparseMode) {
   EXPECT_LT(choice.inlier_fraction, params.ground.precise_fraction);
   EXPECT_EQ(choice.source, mm::GroundPriorParams::PlaneSource::kParameters);
   EXPECT_EQ(choice.plane.height, 1.3);
+  EXPECT_FALSE(choice.single_scan_plane);  // returns off the road: elevation measured
 }
 
-TEST(GroundPlaneEstimate, ReturnsOnOneScanPlaneOrTooFewGiveNoFit) {
-  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
-  mm::GroundPriorParams params;
-  // A 2D scanner: every return on the horizontal plane 0.5 m below the camera, out to 30 m; all
-  // within 1.5 deg of elevation spread.
+namespace {
+// A 2D scanner: every return on the horizontal plane 0.5 m below the camera, out to 30 m; all
+// within 1.5 deg of elevation spread.
+std::vector<Eigen::Vector3d> scanPlaneReturns() {
   std::vector<Eigen::Vector3d> scan;
   for (int i = 0; i < 200; ++i) {
     const double az = (-35.0 + 0.35 * i) * kPi / 180.0, range = 20.0 + 10.0 * std::sin(i);
     scan.push_back({range * std::sin(az), 0.5, range * std::cos(az)});
   }
+  return scan;
+}
+}  // namespace
+
+TEST(GroundPlaneEstimate, ReturnsOnOneScanPlaneOrTooFewGiveNoFit) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::GroundPriorParams params;
+  std::vector<Eigen::Vector3d> scan = scanPlaneReturns();
   const auto plane = mm::givenGroundPlane(params);
-  EXPECT_FALSE(mm::estimateGroundPlane(mm::toAngularSamples(scan), angles, plane, params).found);
+  const auto flat = mm::estimateGroundPlane(mm::toAngularSamples(scan), angles, plane, params);
+  EXPECT_FALSE(flat.found);
+  EXPECT_TRUE(flat.single_scan_plane);  // its returns' pixel rows are not measured
   scan.resize(10);
   const auto few = mm::estimateGroundPlane(mm::toAngularSamples(scan), angles, plane, params);
   EXPECT_FALSE(few.found);
   EXPECT_EQ(few.inliers, 0u);
+  EXPECT_FALSE(few.single_scan_plane);  // too few for a verdict
+  // The verdict reaches the model's choice.
+  mm::DepthCompletionParams radar;
+  radar.model = mm::DepthModel::kGroundGp;
+  EXPECT_TRUE(
+      mm::chooseGround(mm::toAngularSamples(scanPlaneReturns()), angles, radar).single_scan_plane);
   // Without a verdict, the spacing rule decides (200 returns, ~0.35 deg apart along one line).
   mm::DepthCompletionParams p;
   p.model = mm::DepthModel::kGroundGp;

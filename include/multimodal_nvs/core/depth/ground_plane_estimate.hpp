@@ -18,6 +18,9 @@ struct GroundPlaneFit {
   std::size_t returns = 0;       ///< returns considered (in view, within the range)
   std::size_t inliers = 0;       ///< of those, within the distance threshold of the plane
   double inlier_fraction = 0.0;  ///< inliers / returns (0 without returns)
+  /// The returns in view (at least 12, any range) lie within 5 cm RMS of one plane: a 2D
+  /// scanner's (e.g. nuScenes' radar), whose elevation (and so pixel row) is not measured.
+  bool single_scan_plane = false;
 };
 
 /// Fits the ground by RANSAC (the normal within 20 deg of `expected.up`, then least squares on the
@@ -50,6 +53,9 @@ struct GroundChoice {
   /// Dense mode: returns left out as hidden from the camera (-1: the filter did not run; set by
   /// predictWithModel).
   long long hidden_returns = -1;
+  /// The returns lie on one scan plane (GroundPlaneFit::single_scan_plane; false when no fit ran):
+  /// the pixel a return projects to is not where it was seen, so its colour says nothing.
+  bool single_scan_plane = false;
 };
 
 /// The plane given by the parameters (camera_height and up, which a pose or tf may have set).

@@ -8,6 +8,7 @@
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
+#include "multimodal_nvs/core/depth/surface_colours.hpp"
 
 namespace multimodal_nvs {
 
@@ -96,9 +97,14 @@ struct NearestSurfaceRows {
     return lerp(w.depth_lo[c], w.depth_hi[c], w.t);
   }
 };
+/// With `colours`, each of the k samples counts by the resemblance of its pixel's colour to the
+/// lattice node's (SurfaceColours::weight) and the rank-th smallest becomes the depth at which
+/// the depth-sorted weight reaches (rank - 0.5) / k of the total: a surface that looks like the
+/// pixel decides, not the nearest of another colour (a parked car's returns for the facade above).
 NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
                                       const PixelAngleGrid& angles, int k, int rank, int step,
                                       ThreadPool& pool,
-                                      const std::vector<AngularSample>* support = nullptr);
+                                      const std::vector<AngularSample>* support = nullptr,
+                                      const SurfaceColours* colours = nullptr);
 
 }  // namespace multimodal_nvs

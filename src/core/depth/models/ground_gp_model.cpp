@@ -65,7 +65,7 @@ std::vector<double> pinholeColumnX(const PixelAngleGrid& angles) {
 void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const NeighbourSets* sets, const DepthCompletionParams& params,
                      const GroundPlane& plane, double median_depth, ThreadPool& pool,
-                     PixelPredictions& out) {
+                     PixelPredictions& out, const cv::Mat& image) {
   const GroundPriorParams& g = params.ground;
   const double far = g.far_depth > 0.0 ? g.far_depth : std::max(median_depth, 1.0);
   const int step = std::max(1, g.surface_step_px / angles.grid().stride);
@@ -84,9 +84,12 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
   //   prior = min(ground depth, surface depth), the far value where neither bounds the depth,
   // is only formed in the final full-image pass (and at the samples), so no full-resolution prior
   // is written, copied and read back.
-  const NearestSurfaceRows surface =
-      nearestSurfaceRows(objects, angles, g.surface_k, g.surface_rank, step, pool,
-                         objects.size() == samples.size() ? nullptr : &samples);
+  std::optional<SurfaceColours> colours;
+  if (g.surface_colour_sigma > 0.0 && !image.empty())
+    colours.emplace(image, g.surface_colour_sigma);
+  const NearestSurfaceRows surface = nearestSurfaceRows(
+      objects, angles, g.surface_k, g.surface_rank, step, pool,
+      objects.size() == samples.size() ? nullptr : &samples, colours ? &*colours : nullptr);
   const PinholeIntrinsics& k = angles.intrinsics();
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();

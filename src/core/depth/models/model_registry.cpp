@@ -71,7 +71,7 @@ int predictGroundGpModel(const std::vector<AngularSample>& samples, const PixelA
                          const DepthCompletionParams& params, const GroundChoice& choice,
                          double shift, ThreadPool& pool, PixelPredictions& out,
                          GroundChoice* ground, ModelScratch* scratch,
-                         BackgroundTriangulation& triangulation) {
+                         BackgroundTriangulation& triangulation, const cv::Mat& image) {
   if (choice.dense) {
     // Dense input needs no neighbour sets: the interpolating prior is the prediction.
     ModelScratch local;
@@ -80,19 +80,21 @@ int predictGroundGpModel(const std::vector<AngularSample>& samples, const PixelA
     if (ground) ground->hidden_returns = triangulation.hiddenCount();
     return 0;
   }
+  // The surface prior's colours only where a return's pixel is where it was seen.
+  const cv::Mat& colours = choice.single_scan_plane ? cv::Mat() : image;
   if (groundGpUsesTiles(samples, angles, params)) {
     // No neighbour sets: building them alone takes longer than the whole approximation.
     if (ground) ground->tiled_residual = true;
     DepthCompletionParams tiled = params;
     if (tiled.max_neighbors == 0) tiled.max_neighbors = kAutoMaxNeighbors;
     predictGroundGp(samples, angles, nullptr, tiled, choice.plane,
-                    medianDepth(samples, params, shift), pool, out);
+                    medianDepth(samples, params, shift), pool, out, colours);
     return 0;
   }
   const NeighbourSets sets =
       NeighbourSets::build(samples, angles, static_cast<float>(params.radius_deg), pool);
   predictGroundGp(samples, angles, &sets, params, choice.plane, medianDepth(samples, params, shift),
-                  pool, out);
+                  pool, out, colours);
   return sets.setCount();
 }
 
@@ -133,7 +135,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     if (params.ground.image_sky && !image.empty())
       sky = imageSkyMask(samples, angles, params.guided, choice.plane, image, pool);
     const int sets = predictGroundGpModel(samples, angles, params, choice, shift, pool, out, ground,
-                                          scratch, triangulation);
+                                          scratch, triangulation, image);
     if (!sky.empty()) applySkyMask(sky, params.guided, out);
     return sets;
   }
@@ -152,6 +154,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     // ground_gp first, on the same ground, then its prediction as the prior.
     DepthCompletionParams ground_gp = params;
     ground_gp.model = DepthModel::kGroundGp;
+    ground_gp.ground.surface_colour_sigma = params.guided.prior_colour_sigma;
     PixelPredictions own_prior;
     PixelPredictions& prior = scratch != nullptr ? scratch->model_prior : own_prior;
     // The prior is computed on a coarser grid when prior_step_px asks for it (only with the
@@ -166,12 +169,12 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
         scratch->prior_angles = std::make_unique<PixelAngleGrid>(angles.intrinsics(), coarse);
       }
       sets = predictGroundGpModel(samples, *scratch->prior_angles, ground_gp, choice, shift, pool,
-                                  scratch->coarse_prior, ground, scratch, triangulation);
+                                  scratch->coarse_prior, ground, scratch, triangulation, image);
       upsamplePredictions(scratch->coarse_prior, coarse, grid, factor, pool,
                           scratch->prior_upsampling, prior);
     } else {
       sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior, ground,
-                                  scratch, triangulation);
+                                  scratch, triangulation, image);
     }
     predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior);
     return sets;

@@ -9,8 +9,12 @@
 
 #include "core/scene_fixtures.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/common/thread_pool.hpp"
+#include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
+#include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/image_guided_model.hpp"
+#include "multimodal_nvs/core/depth/surface_colours.hpp"
 
 namespace mm = multimodal_nvs;
 using mm::test::pointOnPixelRay;
@@ -472,4 +476,59 @@ TEST(ImageGuided, GroundGpPriorSurvivesDegenerateScans) {
     }
   }
   EXPECT_GE(completed, 4);  // at least the empty, single, repeated and extreme scans complete
+}
+
+namespace {
+// A far wall (a facade, beige) on the left half of the image and a near object (a car, reddish) on
+// the right half, a return every 20th pixel; and the same returns flattened onto one scan plane
+// (a 2D radar: elevation not measured), which keeps each on its side of the image.
+struct ColourScans {
+  cv::Mat image;
+  std::vector<Eigen::Vector3d> spread, flat;
+};
+ColourScans colourScans() {
+  ColourScans s;
+  s.image = cv::Mat(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar(40, 60, 180));
+  s.image.colRange(0, 80).setTo(cv::Scalar(150, 190, 200));
+  for (int u = 5; u < kCols; u += 20) {
+    for (int v = 5; v < smallImage().height; v += 20) {
+      const Eigen::Vector3d p = pointOnPixelRay(smallCamera(), u, v, u < 80 ? 30.0 : 6.0);
+      s.spread.push_back(p);
+      s.flat.push_back({p.x(), 0.4, p.z()});
+    }
+  }
+  return s;
+}
+}  // namespace
+
+// The prior's colour weighing changes the radar default's depth where returns of two colours meet,
+// and is left out for returns on one scan plane, whose pixel is not where they were seen (there
+// the colours alone would have changed the prior: checked on the prior itself).
+TEST(ImageGuided, PriorColoursApplyOnlyToReturnsWithMeasuredElevation) {
+  const ColourScans scans = colourScans();
+  mm::DepthCompletionParams with;
+  with.model = mm::DepthModel::kImageGuided;
+  with.threads = 2;
+  ASSERT_GT(with.guided.prior_colour_sigma, 0.0);  // on by default
+  with.guided.sky = false;                         // the facade is bright and plain
+  // A regular grid of returns on two planes looks like LiDAR rings to the automatic mode.
+  with.ground.input = mm::GroundPriorParams::Input::kSparse;
+  mm::DepthCompletionParams without = with;
+  without.guided.prior_colour_sigma = 0.0;
+  mm::DepthCompleter completer(2);
+  const auto complete = [&](const std::vector<Eigen::Vector3d>& points,
+                            const mm::DepthCompletionParams& p) {
+    return completer.complete(points, smallCamera(), {smallImage(), 1}, p, scans.image);
+  };
+  EXPECT_NE(complete(scans.spread, with).depth, complete(scans.spread, without).depth);
+  const mm::DepthMap flat_with = complete(scans.flat, with);
+  const mm::DepthMap flat_without = complete(scans.flat, without);
+  EXPECT_EQ(flat_with.depth, flat_without.depth);
+  EXPECT_EQ(flat_with.variance, flat_without.variance);
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  const mm::SurfaceColours colours(scans.image, with.guided.prior_colour_sigma);
+  const auto flat = mm::toAngularSamples(scans.flat);
+  EXPECT_NE(mm::nearestSurfaceRows(flat, angles, 8, 2, 4, pool, nullptr, &colours).depth_rows,
+            mm::nearestSurfaceRows(flat, angles, 8, 2, 4, pool).depth_rows);
 }

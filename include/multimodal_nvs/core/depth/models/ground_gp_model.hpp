@@ -1,6 +1,8 @@
 #pragma once
 // `ground_gp`: the local GP on the residual around a ground-plane and nearest-surface prior.
+#include <opencv2/core.hpp>
 #include <vector>
+
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/angular_triangulation.hpp"
@@ -15,10 +17,12 @@ struct GroundPlane;
 /// `ground_gp`: local GP on the residual around the ground-plane prior (ground_gp_model.cpp).
 /// `sets`: the exact residual GP on these neighbour sets; nullptr: the tile approximation
 /// (predictTiledLocalGp with params.max_neighbors samples per tile), for large neighbour sets.
+/// `image` (may be empty): the camera image, for the nearest-surface prior's colour weighting
+/// (ground.surface_colour_sigma > 0).
 void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const NeighbourSets* sets, const DepthCompletionParams& params,
                      const GroundPlane& plane, double median_depth, ThreadPool& pool,
-                     PixelPredictions& out);
+                     PixelPredictions& out, const cv::Mat& image = cv::Mat());
 
 /// `ground_gp` on dense input (ground_gp_model.cpp): the prior is the edge-aware interpolation of
 /// inverse depth on the Delaunay triangulation of the samples; no residual GP (the prior already

@@ -1,0 +1,84 @@
+#include "multimodal_nvs/core/depth/surface_colours.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "multimodal_nvs/core/depth/models/image_guided_model.hpp"
+
+namespace multimodal_nvs {
+
+SurfaceColours::SurfaceColours(const cv::Mat& image, double sigma)
+    // guideOnGrid checks and converts the image (8-bit BGR) as image_guided does; an 8-bit BGR
+    // image is shared, not copied.
+    : bgr_(guideOnGrid(image, StrideGrid{ImageSize{image.rows, image.cols}, 1})),
+      inv_two_sigma2_(sigma > 0.0 ? static_cast<float>(1.0 / (2.0 * sigma * sigma)) : 0.0f) {}
+
+CellColour SurfaceColours::at(double u, double v) const {
+  const double cu = std::floor(u / kCellPx), cv_ = std::floor(v / kCellPx);
+  const int cols = bgr_.cols, rows = bgr_.rows;
+  if (!(cu >= 0.0 && cv_ >= 0.0 && cu * kCellPx < cols && cv_ * kCellPx < rows)) {
+    return {NAN, NAN, NAN};
+  }
+  // The cell's mean, computed where asked: the prior asks at its lattice nodes and returns only,
+  // a few thousand cells, not the million of a whole averaged image.
+  const int c0 = static_cast<int>(cu) * kCellPx, r0 = static_cast<int>(cv_) * kCellPx;
+  const int c1 = std::min(cols, c0 + kCellPx), r1 = std::min(rows, r0 + kCellPx);
+  int sum[3] = {0, 0, 0};
+  for (int r = r0; r < r1; ++r) {
+    const cv::Vec3b* row = bgr_.ptr<cv::Vec3b>(r);
+    for (int c = c0; c < c1; ++c) {
+      for (int ch = 0; ch < 3; ++ch)
+        sum[ch] += row[c][ch];
+    }
+  }
+  const float n = static_cast<float>((r1 - r0) * (c1 - c0));
+  return {sum[0] / n, sum[1] / n, sum[2] / n};
+}
+
+std::vector<CellColour> SurfaceColours::atSamples(const std::vector<AngularSample>& samples,
+                                                  const PixelAngleGrid& angles) const {
+  std::vector<CellColour> out(samples.size(), CellColour{NAN, NAN, NAN});
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    double u = 0.0, v = 0.0;
+    if (angularToPixel(angles.intrinsics(), samples[i].azimuth_deg, samples[i].elevation_deg, &u,
+                       &v)) {
+      out[i] = at(u, v);
+    }
+  }
+  return out;
+}
+
+float SurfaceColours::weight(const CellColour& pixel, const CellColour& sample) const {
+  if (std::isnan(pixel[0]) || std::isnan(sample[0])) return 1.0f;
+  float d2 = 0.0f;
+  for (int ch = 0; ch < 3; ++ch)
+    d2 += (pixel[ch] - sample[ch]) * (pixel[ch] - sample[ch]);
+  return kWeightFloor + (1.0f - kWeightFloor) * std::exp(-d2 * inv_two_sigma2_);
+}
+
+float weightedOrderStatistic(std::vector<float>& depths, std::vector<float>& weights,
+                             double fraction) {
+  const std::size_t n = depths.size();
+  // A handful of values (the prior's k nearest): insertion sort by depth, weights alongside.
+  for (std::size_t i = 1; i < n; ++i) {
+    const float d = depths[i], w = weights[i];
+    std::size_t j = i;
+    for (; j > 0 && depths[j - 1] > d; --j) {
+      depths[j] = depths[j - 1];
+      weights[j] = weights[j - 1];
+    }
+    depths[j] = d;
+    weights[j] = w;
+  }
+  const double total = std::accumulate(weights.begin(), weights.end(), 0.0);
+  const double target = fraction * total;
+  double cumulative = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    cumulative += weights[i];
+    if (cumulative >= target) return depths[i];
+  }
+  return depths[n - 1];
+}
+
+}  // namespace multimodal_nvs
