@@ -149,7 +149,8 @@ struct BruteForceScratch {
   std::vector<std::uint64_t> keys;  // the candidates' distanceKey()
   std::vector<std::uint64_t> best;  // the kk nearest as distanceKey(), ascending (+1 spare slot)
   std::vector<float> depths;
-  std::vector<float> weights;  // the depths' colour weights (nearestSurfaceRows with colours)
+  std::vector<int> nearest;    // the k nearest samples (indices into the front samples)
+  std::vector<float> weights;  // their colour weights (nearestSurfaceRows with colours)
 };
 
 // (squared distance, index) as one integer that orders like the pair (non-negative floats order
@@ -361,6 +362,7 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
       s.best.resize(kk + 1);
     }
     s.depths.reserve(kk);
+    s.nearest.reserve(kk);
     s.weights.reserve(kk);
   }
   PerWorker<std::vector<std::pair<double, int>>> binned(pool.size());
@@ -414,28 +416,26 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
         nearest_d2 = keyDistance(s.best[0]);
         kth = keyDistance(s.best[kk - 1]);
         radius = nextRadius(std::sqrt(kth), qaz, qel, next_az, next_el);
+        s.nearest.clear();
         for (std::size_t t = 0; t < kk; ++t)
-          d.push_back(front[keyIndex(s.best[t])].depth);
-        if (colours != nullptr) {
-          const CellColour node = colours->at(double(c) * grid.stride, double(r) * grid.stride);
-          s.weights.clear();
-          for (std::size_t t = 0; t < kk; ++t)
-            s.weights.push_back(colours->weight(node, front_colours[keyIndex(s.best[t])]));
-        }
+          s.nearest.push_back(keyIndex(s.best[t]));
       } else {
         bins.nearest(qaz, qel, k, found, previous_kth);
         nearest_d2 = found.front().first;
+        s.nearest.clear();
         for (const auto& nn : found) {
           kth = std::max(kth, nn.first);
-          d.push_back(front[nn.second].depth);
-        }
-        if (colours != nullptr) {
-          const CellColour node = colours->at(double(c) * grid.stride, double(r) * grid.stride);
-          s.weights.clear();
-          for (const auto& nn : found)
-            s.weights.push_back(colours->weight(node, front_colours[nn.second]));
+          s.nearest.push_back(nn.second);
         }
         previous_kth = std::sqrt(kth) * 1.1;
+      }
+      for (const int index : s.nearest)
+        d.push_back(front[index].depth);
+      if (colours != nullptr) {
+        const CellColour node = colours->at(double(c) * grid.stride, double(r) * grid.stride);
+        s.weights.clear();
+        for (const int index : s.nearest)
+          s.weights.push_back(colours->weight(node, front_colours[index]));
       }
       const std::size_t pick = std::min<std::size_t>(std::max(rank, 1) - 1, d.size() - 1);
       node_depth[i * lattice_cols + j] =
