@@ -8,10 +8,10 @@
 
 namespace multimodal_nvs {
 
-SurfaceColours::SurfaceColours(const cv::Mat& image, double sigma)
+SurfaceColours::SurfaceColours(const cv::Mat& image, const ImageSize& size, double sigma)
     // guideOnGrid checks and converts the image (8-bit BGR) as image_guided does; an 8-bit BGR
     // image is shared, not copied.
-    : bgr_(guideOnGrid(image, StrideGrid{ImageSize{image.rows, image.cols}, 1})),
+    : bgr_(guideOnGrid(image, StrideGrid{size, 1})),
       inv_two_sigma2_(sigma > 0.0 ? static_cast<float>(1.0 / (2.0 * sigma * sigma)) : 0.0f) {}
 
 CellColour SurfaceColours::at(double u, double v) const {

@@ -13,6 +13,7 @@
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 #include "multimodal_nvs/core/depth/surface_colours.hpp"
@@ -21,6 +22,13 @@ namespace mm = multimodal_nvs;
 using mm::test::pointOnPixelRay;
 using mm::test::smallCamera;
 using mm::test::smallImage;
+
+namespace {
+// The colours of an image of its own size (the depth grid's image in the models).
+mm::SurfaceColours coloursOf(const cv::Mat& image, double sigma = 20.0) {
+  return mm::SurfaceColours(image, mm::ImageSize{image.rows, image.cols}, sigma);
+}
+}  // namespace
 
 TEST(WeightedOrderStatistic, EqualWeightsGiveThePlainOrderStatistic) {
   std::mt19937 rng(3);
@@ -56,7 +64,7 @@ TEST(SurfaceColours, CellsAverageTheImageAndWeightsFallWithTheColourDistance) {
   cv::Mat image(4 * kCell, 4 * kCell, CV_8UC3, cv::Scalar(200, 0, 0));  // blue
   image(cv::Rect(0, 0, kCell, kCell)).setTo(cv::Scalar(0, 0, 200));     // red top-left cell
   image.at<cv::Vec3b>(kCell, kCell) = cv::Vec3b(0, 200, 0);             // one green pixel
-  const mm::SurfaceColours colours(image, 20.0);
+  const mm::SurfaceColours colours = coloursOf(image);
   const mm::CellColour red = colours.at(1.0, 2.0), blue = colours.at(3.5 * kCell, 3.5 * kCell);
   EXPECT_EQ(red, (mm::CellColour{0.0f, 0.0f, 200.0f}));
   EXPECT_EQ(blue, (mm::CellColour{200.0f, 0.0f, 0.0f}));
@@ -82,18 +90,21 @@ TEST(SurfaceColours, CellsAverageTheImageAndWeightsFallWithTheColourDistance) {
 
 TEST(SurfaceColours, GrayAndSixteenBitImagesReadAsTheirColourAndOthersAreRefused) {
   const cv::Mat gray(16, 16, CV_8UC1, cv::Scalar(90));
-  EXPECT_EQ(mm::SurfaceColours(gray, 20.0).at(3.0, 3.0), (mm::CellColour{90.0f, 90.0f, 90.0f}));
+  EXPECT_EQ(coloursOf(gray).at(3.0, 3.0), (mm::CellColour{90.0f, 90.0f, 90.0f}));
   const cv::Mat deep(16, 16, CV_16UC3, cv::Scalar(256 * 10, 256 * 20, 256 * 30));
-  EXPECT_EQ(mm::SurfaceColours(deep, 20.0).at(3.0, 3.0), (mm::CellColour{10.0f, 20.0f, 30.0f}));
-  EXPECT_THROW(mm::SurfaceColours(cv::Mat(16, 16, CV_32FC3), 20.0), mm::InputError);
-  EXPECT_THROW(mm::SurfaceColours(cv::Mat(16, 16, CV_8UC2), 20.0), mm::InputError);
+  EXPECT_EQ(coloursOf(deep).at(3.0, 3.0), (mm::CellColour{10.0f, 20.0f, 30.0f}));
+  EXPECT_THROW(coloursOf(cv::Mat(16, 16, CV_32FC3)), mm::InputError);
+  EXPECT_THROW(coloursOf(cv::Mat(16, 16, CV_8UC2)), mm::InputError);
+  // An image of another size than the depth grid's is refused, not read at the wrong pixels.
+  EXPECT_THROW(mm::SurfaceColours(gray, mm::ImageSize{16, 32}, 20.0), mm::InputError);
+  EXPECT_THROW(mm::SurfaceColours(cv::Mat(), mm::ImageSize{16, 16}, 20.0), mm::InputError);
 }
 
 TEST(SurfaceColours, SamplesReadTheCellOfTheirPixel) {
   const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
   cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar(200, 0, 0));
   image.rowRange(60, smallImage().height).setTo(cv::Scalar(0, 0, 200));
-  const mm::SurfaceColours colours(image, 20.0);
+  const mm::SurfaceColours colours = coloursOf(image);
   const auto samples = mm::toAngularSamples(
       {pointOnPixelRay(smallCamera(), 30, 20, 8.0), pointOnPixelRay(smallCamera(), 100, 90, 4.0)});
   const std::vector<mm::CellColour> at = colours.atSamples(samples, angles);
@@ -113,14 +124,15 @@ TEST(SurfaceColours, TheNearestSurfacePriorTakesTheReturnsThatLookLikeThePixel) 
   const auto samples = mm::toAngularSamples(
       {pointOnPixelRay(smallCamera(), 80, 68, 5.0), pointOnPixelRay(smallCamera(), 81, 56, 30.0),
        pointOnPixelRay(smallCamera(), 79, 55, 31.0), pointOnPixelRay(smallCamera(), 80, 54, 32.0)});
-  const mm::SurfaceColours colours(image, 20.0);
+  const mm::SurfaceColours colours = coloursOf(image);
   const auto plain = mm::nearestSurfaceRows(samples, angles, 4, 1, 1, pool);
   const auto weighed = mm::nearestSurfaceRows(samples, angles, 4, 1, 1, pool, nullptr, &colours);
   EXPECT_NEAR(plain.depth(60, 80), 5.0f, 1e-4f);     // the facade pixel takes the car's depth
   EXPECT_NEAR(weighed.depth(60, 80), 30.0f, 1e-3f);  // ... unless the colours weigh in
   EXPECT_NEAR(weighed.depth(70, 80), 5.0f, 1e-4f);   // the car keeps its own
   // A uniform image weighs every return alike: the plain prior, bit for bit.
-  const mm::SurfaceColours uniform(cv::Mat(image.size(), CV_8UC3, cv::Scalar::all(128)), 20.0);
+  const mm::SurfaceColours uniform =
+      coloursOf(cv::Mat(image.size(), CV_8UC3, cv::Scalar::all(128)));
   const auto same = mm::nearestSurfaceRows(samples, angles, 4, 2, 3, pool, nullptr, &uniform);
   const auto rank2 = mm::nearestSurfaceRows(samples, angles, 4, 2, 3, pool);
   EXPECT_EQ(same.depth_rows, rank2.depth_rows);
@@ -137,8 +149,8 @@ TEST(SurfaceColours, ManyReturnsAreWeighedAsAFew) {
   for (int i = 0; i < 5000; ++i)
     points.push_back(pointOnPixelRay(smallCamera(), u(rng), v(rng), z(rng)));
   const auto samples = mm::toAngularSamples(points);
-  const mm::SurfaceColours uniform(
-      cv::Mat(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128)), 20.0);
+  const mm::SurfaceColours uniform =
+      coloursOf(cv::Mat(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128)));
   const auto same = mm::nearestSurfaceRows(samples, angles, 8, 2, 4, pool, nullptr, &uniform);
   const auto plain = mm::nearestSurfaceRows(samples, angles, 8, 2, 4, pool);
   EXPECT_EQ(same.depth_rows, plain.depth_rows);
@@ -147,7 +159,7 @@ TEST(SurfaceColours, ManyReturnsAreWeighedAsAFew) {
   cv::Mat stripes(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar(200, 120, 40));
   for (int r = 0; r < stripes.rows; r += 8)
     stripes.rowRange(r, std::min(r + 4, stripes.rows)).setTo(cv::Scalar(30, 30, 180));
-  const mm::SurfaceColours striped(stripes, 20.0);
+  const mm::SurfaceColours striped = coloursOf(stripes);
   const auto weighed = mm::nearestSurfaceRows(samples, angles, 8, 2, 4, pool, nullptr, &striped);
   EXPECT_NE(weighed.depth_rows, plain.depth_rows);
   std::vector<float> depths;
@@ -160,4 +172,24 @@ TEST(SurfaceColours, ManyReturnsAreWeighedAsAFew) {
       ASSERT_TRUE(std::binary_search(depths.begin(), depths.end(), d)) << i << " " << c;
     }
   }
+}
+
+// ground_gp alone with the colours on: an image of another size than the depth grid's is an
+// InputError (as for the sky and image_guided), the right one completes.
+TEST(SurfaceColours, GroundGpRefusesAMisSizedImage) {
+  mm::DepthCompletionParams p;
+  p.model = mm::DepthModel::kGroundGp;
+  p.ground.input = mm::GroundPriorParams::Input::kSparse;
+  p.ground.surface_colour_sigma = 20.0;
+  const std::vector<Eigen::Vector3d> returns = {pointOnPixelRay(smallCamera(), 40, 50, 8.0),
+                                                pointOnPixelRay(smallCamera(), 120, 45, 20.0),
+                                                pointOnPixelRay(smallCamera(), 80, 30, 30.0)};
+  mm::DepthCompleter completer(2);
+  const cv::Mat small(smallImage().height / 2, smallImage().width / 2, CV_8UC3,
+                      cv::Scalar::all(90));
+  EXPECT_THROW(completer.complete(returns, smallCamera(), {smallImage(), 1}, p, small),
+               mm::InputError);
+  const cv::Mat right(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(90));
+  const mm::DepthMap map = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, right);
+  EXPECT_EQ(map.depth.size(), std::size_t(smallImage().height) * smallImage().width);
 }

@@ -22,10 +22,11 @@ class SurfaceColours {
  public:
   static constexpr int kCellPx = 4;
 
-  /// `image`: the camera image at full resolution, 8- or 16-bit, 1, 3 or 4 channels (InputError
-  /// otherwise, as image_guided); `sigma`: the colour distance (0..255 per channel, Euclidean) at
-  /// which a sample's weight falls to exp(-1/2) of a matching one's.
-  SurfaceColours(const cv::Mat& image, double sigma);
+  /// `image`: the camera image at full resolution (`size`, the depth grid's image), 8- or 16-bit,
+  /// 1, 3 or 4 channels (InputError otherwise, as image_guided: colours read from a mis-sized
+  /// image would be another pixel's); `sigma`: the colour distance (0..255 per channel, Euclidean)
+  /// at which a sample's weight falls to exp(-1/2) of a matching one's.
+  SurfaceColours(const cv::Mat& image, const ImageSize& size, double sigma);
 
   /// The colour of the cell that holds full-image pixel (u, v); NaN outside the image.
   CellColour at(double u, double v) const;

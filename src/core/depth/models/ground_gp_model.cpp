@@ -86,7 +86,7 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
   // is written, copied and read back.
   std::optional<SurfaceColours> colours;
   if (g.surface_colour_sigma > 0.0 && !image.empty())
-    colours.emplace(image, g.surface_colour_sigma);
+    colours.emplace(image, angles.grid().image, g.surface_colour_sigma);
   const NearestSurfaceRows surface = nearestSurfaceRows(
       objects, angles, g.surface_k, g.surface_rank, step, pool,
       objects.size() == samples.size() ? nullptr : &samples, colours ? &*colours : nullptr);

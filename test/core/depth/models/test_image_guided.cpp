@@ -527,7 +527,7 @@ TEST(ImageGuided, PriorColoursApplyOnlyToReturnsWithMeasuredElevation) {
   EXPECT_EQ(flat_with.variance, flat_without.variance);
   const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
   mm::ThreadPool pool(2);
-  const mm::SurfaceColours colours(scans.image, with.guided.prior_colour_sigma);
+  const mm::SurfaceColours colours(scans.image, smallImage(), with.guided.prior_colour_sigma);
   const auto flat = mm::toAngularSamples(scans.flat);
   EXPECT_NE(mm::nearestSurfaceRows(flat, angles, 8, 2, 4, pool, nullptr, &colours).depth_rows,
             mm::nearestSurfaceRows(flat, angles, 8, 2, 4, pool).depth_rows);
