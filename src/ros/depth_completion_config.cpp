@@ -37,6 +37,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.ground.surface_rank = config.ground_surface_rank;
   p.ground.surface_step_px = config.ground_surface_step_px;
   p.ground.surface_colour_sigma = config.ground_surface_colour_sigma;
+  p.ground.surface_colour_walls = config.ground_surface_colour_walls;
   p.ground.residual_amplitude = config.ground_residual_amplitude;
   p.ground.relative_sigma = config.ground_relative_sigma;
   p.ground.relative_sigma_per_deg = config.ground_relative_sigma_per_deg;
@@ -52,6 +53,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   g.smooth_scale = config.guided_smooth_scale;
   g.prior_step_px = config.guided_prior_step_px;
   g.prior_colour_sigma = config.guided_prior_colour_sigma;
+  g.prior_colour_walls = config.guided_prior_colour_walls;
   g.prior_weight = config.guided_prior_weight;
   g.far_depth = config.guided_far_depth;
   g.ground_prior = config.guided_ground_prior;
@@ -99,6 +101,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.ground_surface_rank = p.ground.surface_rank;
   config.ground_surface_step_px = p.ground.surface_step_px;
   config.ground_surface_colour_sigma = p.ground.surface_colour_sigma;
+  config.ground_surface_colour_walls = p.ground.surface_colour_walls;
   config.ground_residual_amplitude = p.ground.residual_amplitude;
   config.ground_relative_sigma = p.ground.relative_sigma;
   config.ground_relative_sigma_per_deg = p.ground.relative_sigma_per_deg;
@@ -114,6 +117,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.guided_smooth_scale = g.smooth_scale;
   config.guided_prior_step_px = g.prior_step_px;
   config.guided_prior_colour_sigma = g.prior_colour_sigma;
+  config.guided_prior_colour_walls = g.prior_colour_walls;
   config.guided_prior_weight = g.prior_weight;
   config.guided_far_depth = g.far_depth;
   config.guided_ground_prior = g.ground_prior;

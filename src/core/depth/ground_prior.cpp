@@ -299,7 +299,8 @@ double nextRadius(double kth_distance, float qaz, float qel, float next_az, floa
 NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
                                       const PixelAngleGrid& angles, int k, int rank, int step,
                                       ThreadPool& pool, const std::vector<AngularSample>* support,
-                                      const SurfaceColours* colours) {
+                                      const SurfacePriorImage& image) {
+  const SurfaceColours* const colours = image.colours;
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
   NearestSurfaceRows out;
@@ -431,17 +432,26 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
       }
       for (const int index : s.nearest)
         d.push_back(front[index].depth);
+      const std::size_t pick = std::min<std::size_t>(std::max(rank, 1) - 1, d.size() - 1);
       if (colours != nullptr) {
         const CellColour node = colours->at(double(c) * grid.stride, double(r) * grid.stride);
         s.weights.clear();
         for (const int index : s.nearest)
           s.weights.push_back(colours->weight(node, front_colours[index]));
+        const std::size_t chosen =
+            weightedOrderStatistic(d, s.weights, (double(pick) + 0.5) / double(d.size()));
+        double depth = d[chosen];
+        if (image.walls && s.weights[chosen] > kWallMinColourWeight) {
+          // Normalised image x = X / Z = tan(azimuth) (the angular convention), lens or not.
+          constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+          const AngularSample& wall = front[s.nearest[chosen]];
+          depth = wallDepth(std::tan(double(wall.azimuth_deg) * kDegToRad), depth,
+                            std::tan(double(qaz) * kDegToRad), image.wall_cap_m);
+        }
+        node_depth[i * lattice_cols + j] = static_cast<float>(depth);
+      } else {
+        node_depth[i * lattice_cols + j] = orderStatistic(d, pick);
       }
-      const std::size_t pick = std::min<std::size_t>(std::max(rank, 1) - 1, d.size() - 1);
-      node_depth[i * lattice_cols + j] =
-          colours != nullptr
-              ? weightedOrderStatistic(d, s.weights, (double(pick) + 0.5) / double(d.size()))
-              : orderStatistic(d, pick);
       node_distance[i * lattice_cols + j] =
           separate_support ? support_distance : static_cast<float>(std::sqrt(nearest_d2));
     }

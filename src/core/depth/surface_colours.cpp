@@ -1,6 +1,7 @@
 #include "multimodal_nvs/core/depth/surface_colours.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 
@@ -57,28 +58,37 @@ float SurfaceColours::weight(const CellColour& pixel, const CellColour& sample) 
   return kWeightFloor + (1.0f - kWeightFloor) * std::exp(-d2 * inv_two_sigma2_);
 }
 
-float weightedOrderStatistic(std::vector<float>& depths, std::vector<float>& weights,
-                             double fraction) {
+std::size_t weightedOrderStatistic(const std::vector<float>& depths,
+                                   const std::vector<float>& weights, double fraction) {
   const std::size_t n = depths.size();
-  // A handful of values (the prior's k nearest): insertion sort by depth, weights alongside.
-  for (std::size_t i = 1; i < n; ++i) {
-    const float d = depths[i], w = weights[i];
+  // A handful of values (the prior's k nearest): an insertion sort of their indices by depth.
+  std::array<std::size_t, 64> small{};
+  std::vector<std::size_t> large;
+  std::size_t* order = small.data();
+  if (n > small.size()) {
+    large.resize(n);
+    order = large.data();
+  }
+  for (std::size_t i = 0; i < n; ++i) {
     std::size_t j = i;
-    for (; j > 0 && depths[j - 1] > d; --j) {
-      depths[j] = depths[j - 1];
-      weights[j] = weights[j - 1];
-    }
-    depths[j] = d;
-    weights[j] = w;
+    for (; j > 0 && depths[order[j - 1]] > depths[i]; --j)
+      order[j] = order[j - 1];
+    order[j] = i;
   }
   const double total = std::accumulate(weights.begin(), weights.end(), 0.0);
   const double target = fraction * total;
   double cumulative = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    cumulative += weights[i];
-    if (cumulative >= target) return depths[i];
+    cumulative += weights[order[i]];
+    if (cumulative >= target) return order[i];
   }
-  return depths[n - 1];
+  return order[n - 1];
+}
+
+double wallDepth(double return_x, double return_depth, double pixel_x, double cap) {
+  const bool between = return_x * pixel_x > 0.0 && std::abs(pixel_x) < std::abs(return_x);
+  if (!between || std::abs(return_x) < kWallMinOffAxis) return return_depth;
+  return std::min(return_x * return_depth / pixel_x, std::max(cap, return_depth));
 }
 
 }  // namespace multimodal_nvs

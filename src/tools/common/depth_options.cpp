@@ -92,6 +92,10 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "pixel's (Gaussian of this distance, 0..255 per channel; 0: off)")
       ->check(atLeast(0))
       ->group(kGround);
+  app.add_option("--surface-colour-walls", g.surface_colour_walls,
+                 "with --surface-colour-sigma: a return that looks like the pixel continues as a "
+                 "wall along the view towards the image centre")
+      ->group(kGround);
   app.add_option("--relative-sigma", g.relative_sigma, "prior std / depth at a sample")
       ->check(atLeast(0))
       ->group(kGround);
@@ -145,6 +149,10 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "ground_gp's prior weighs its nearest returns by their pixel's colour against the "
                  "pixel's (Gaussian of this distance, 0..255 per channel; 0: off)")
       ->check(atLeast(0))
+      ->group(guided);
+  app.add_option("--guided-prior-colour-walls", ig.prior_colour_walls,
+                 "ground_gp's prior continues a return that looks like the pixel as a wall along "
+                 "the view towards the image centre (with the colours)")
       ->group(guided);
   app.add_option("--guided-prior-weight", ig.prior_weight, "confidence of the prior per pixel")
       ->check(atLeast(0))

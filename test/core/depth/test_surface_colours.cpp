@@ -34,18 +34,18 @@ TEST(WeightedOrderStatistic, EqualWeightsGiveThePlainOrderStatistic) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> depth(0.5f, 80.0f);
   for (int trial = 0; trial < 500; ++trial) {
-    const std::size_t n = 1 + trial % 12;
+    const std::size_t n = 1 + trial % 12 + (trial % 50 == 0 ? 70 : 0);  // a few beyond 64 values
     std::vector<float> d(n);
     for (float& x : d)
       x = trial % 5 == 0 ? std::round(depth(rng) / 20.0f) : depth(rng);  // ties too
     std::vector<float> sorted = d;
     std::sort(sorted.begin(), sorted.end());
-    const float w = 0.05f + float(trial % 7);
+    const std::vector<float> weights(n, 0.05f + float(trial % 7));
     for (std::size_t pick = 0; pick < n; ++pick) {
-      std::vector<float> values = d, weights(n, w);
-      ASSERT_EQ(mm::weightedOrderStatistic(values, weights, (double(pick) + 0.5) / double(n)),
-                sorted[pick])
-          << "trial " << trial << " pick " << pick;
+      const std::size_t at =
+          mm::weightedOrderStatistic(d, weights, (double(pick) + 0.5) / double(n));
+      ASSERT_LT(at, n);
+      ASSERT_EQ(d[at], sorted[pick]) << "trial " << trial << " pick " << pick;
     }
   }
 }
@@ -53,10 +53,9 @@ TEST(WeightedOrderStatistic, EqualWeightsGiveThePlainOrderStatistic) {
 TEST(WeightedOrderStatistic, ALightNearValueIsPassedOver) {
   // The second smallest of four (fraction 1.5 / 4) by weight: the near value's small weight does
   // not reach it, so the next value stands.
-  std::vector<float> depths{30.0f, 5.0f, 32.0f, 31.0f}, weights{1.0f, 0.05f, 1.0f, 1.0f};
-  EXPECT_EQ(mm::weightedOrderStatistic(depths, weights, 1.5 / 4.0), 31.0f);
-  std::vector<float> heavy_depths{30.0f, 5.0f, 32.0f, 31.0f}, heavy{0.05f, 1.0f, 0.05f, 0.05f};
-  EXPECT_EQ(mm::weightedOrderStatistic(heavy_depths, heavy, 1.5 / 4.0), 5.0f);
+  const std::vector<float> depths{30.0f, 5.0f, 32.0f, 31.0f};
+  EXPECT_EQ(mm::weightedOrderStatistic(depths, {1.0f, 0.05f, 1.0f, 1.0f}, 1.5 / 4.0), 3u);    // 31
+  EXPECT_EQ(mm::weightedOrderStatistic(depths, {0.05f, 1.0f, 0.05f, 0.05f}, 1.5 / 4.0), 1u);  // 5
 }
 
 TEST(SurfaceColours, CellsAverageTheImageAndWeightsFallWithTheColourDistance) {
@@ -126,14 +125,16 @@ TEST(SurfaceColours, TheNearestSurfacePriorTakesTheReturnsThatLookLikeThePixel) 
        pointOnPixelRay(smallCamera(), 79, 55, 31.0), pointOnPixelRay(smallCamera(), 80, 54, 32.0)});
   const mm::SurfaceColours colours = coloursOf(image);
   const auto plain = mm::nearestSurfaceRows(samples, angles, 4, 1, 1, pool);
-  const auto weighed = mm::nearestSurfaceRows(samples, angles, 4, 1, 1, pool, nullptr, &colours);
+  const auto weighed = mm::nearestSurfaceRows(samples, angles, 4, 1, 1, pool, nullptr,
+                                              mm::SurfacePriorImage{&colours});
   EXPECT_NEAR(plain.depth(60, 80), 5.0f, 1e-4f);     // the facade pixel takes the car's depth
   EXPECT_NEAR(weighed.depth(60, 80), 30.0f, 1e-3f);  // ... unless the colours weigh in
   EXPECT_NEAR(weighed.depth(70, 80), 5.0f, 1e-4f);   // the car keeps its own
   // A uniform image weighs every return alike: the plain prior, bit for bit.
   const mm::SurfaceColours uniform =
       coloursOf(cv::Mat(image.size(), CV_8UC3, cv::Scalar::all(128)));
-  const auto same = mm::nearestSurfaceRows(samples, angles, 4, 2, 3, pool, nullptr, &uniform);
+  const auto same = mm::nearestSurfaceRows(samples, angles, 4, 2, 3, pool, nullptr,
+                                           mm::SurfacePriorImage{&uniform});
   const auto rank2 = mm::nearestSurfaceRows(samples, angles, 4, 2, 3, pool);
   EXPECT_EQ(same.depth_rows, rank2.depth_rows);
   EXPECT_EQ(same.distance_rows, rank2.distance_rows);
@@ -151,7 +152,8 @@ TEST(SurfaceColours, ManyReturnsAreWeighedAsAFew) {
   const auto samples = mm::toAngularSamples(points);
   const mm::SurfaceColours uniform =
       coloursOf(cv::Mat(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128)));
-  const auto same = mm::nearestSurfaceRows(samples, angles, 8, 2, 4, pool, nullptr, &uniform);
+  const auto same = mm::nearestSurfaceRows(samples, angles, 8, 2, 4, pool, nullptr,
+                                           mm::SurfacePriorImage{&uniform});
   const auto plain = mm::nearestSurfaceRows(samples, angles, 8, 2, 4, pool);
   EXPECT_EQ(same.depth_rows, plain.depth_rows);
   // A striped image: the weighed prior differs from the plain one somewhere, and is one of the
@@ -160,7 +162,8 @@ TEST(SurfaceColours, ManyReturnsAreWeighedAsAFew) {
   for (int r = 0; r < stripes.rows; r += 8)
     stripes.rowRange(r, std::min(r + 4, stripes.rows)).setTo(cv::Scalar(30, 30, 180));
   const mm::SurfaceColours striped = coloursOf(stripes);
-  const auto weighed = mm::nearestSurfaceRows(samples, angles, 8, 2, 4, pool, nullptr, &striped);
+  const auto weighed = mm::nearestSurfaceRows(samples, angles, 8, 2, 4, pool, nullptr,
+                                              mm::SurfacePriorImage{&striped});
   EXPECT_NE(weighed.depth_rows, plain.depth_rows);
   std::vector<float> depths;
   for (const auto& s : samples)
@@ -192,4 +195,38 @@ TEST(SurfaceColours, GroundGpRefusesAMisSizedImage) {
   const cv::Mat right(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(90));
   const mm::DepthMap map = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, right);
   EXPECT_EQ(map.depth.size(), std::size_t(smallImage().height) * smallImage().width);
+}
+
+TEST(SurfacePriorWalls, AReturnContinuesAsAWallOnlyTowardsTheImageCentre) {
+  // A facade return 0.4 right of the axis (normalised x) at 10 m: X = 4 m.
+  EXPECT_DOUBLE_EQ(mm::wallDepth(0.4, 10.0, 0.2, 100.0), 20.0);
+  EXPECT_DOUBLE_EQ(mm::wallDepth(-0.4, 10.0, -0.1, 100.0), 40.0);
+  EXPECT_DOUBLE_EQ(mm::wallDepth(0.4, 10.0, 0.5, 100.0), 10.0);    // beyond the return
+  EXPECT_DOUBLE_EQ(mm::wallDepth(0.4, 10.0, -0.2, 100.0), 10.0);   // the other side
+  EXPECT_DOUBLE_EQ(mm::wallDepth(0.4, 10.0, 0.0, 100.0), 10.0);    // on the axis
+  EXPECT_DOUBLE_EQ(mm::wallDepth(0.4, 10.0, 0.01, 100.0), 100.0);  // capped
+  EXPECT_DOUBLE_EQ(mm::wallDepth(0.4, 150.0, 0.2, 100.0), 150.0);  // never nearer than the return
+  // The back of a vehicle ahead (near the axis) is not a wall.
+  EXPECT_DOUBLE_EQ(mm::wallDepth(0.5 * mm::kWallMinOffAxis, 10.0, 0.01, 100.0), 10.0);
+}
+
+// A facade along the right of the street, seen at one return: the pixels of its colour between
+// the return and the image centre take the wall's depth; a pixel of another colour there, or
+// without walls, the return's own.
+TEST(SurfacePriorWalls, TheNearestSurfacePriorContinuesALookAlikeReturnAsAWall) {
+  const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
+  mm::ThreadPool pool(2);
+  cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar(150, 190, 200));
+  image.rowRange(80, smallImage().height).setTo(cv::Scalar(40, 40, 40));  // the road, dark
+  const auto samples = mm::toAngularSamples({pointOnPixelRay(smallCamera(), 140, 40, 10.0)});
+  const mm::SurfaceColours colours = coloursOf(image);
+  const mm::SurfacePriorImage walls{&colours, true, 100.0};
+  const auto with = mm::nearestSurfaceRows(samples, angles, 1, 1, 1, pool, nullptr, walls);
+  const auto without = mm::nearestSurfaceRows(samples, angles, 1, 1, 1, pool, nullptr,
+                                              mm::SurfacePriorImage{&colours});
+  // Column 110 of row 40: normalised x 0.3 against the return's 0.6, X = 6 m: a wall at 20 m.
+  EXPECT_NEAR(with.depth(40, 110), 20.0f, 1e-3f);
+  EXPECT_NEAR(without.depth(40, 110), 10.0f, 1e-4f);
+  EXPECT_NEAR(with.depth(40, 150), 10.0f, 1e-4f);   // beyond the return: its own depth
+  EXPECT_NEAR(with.depth(100, 110), 10.0f, 1e-4f);  // the road's colour: no wall
 }

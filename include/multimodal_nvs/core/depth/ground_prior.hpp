@@ -97,14 +97,16 @@ struct NearestSurfaceRows {
     return lerp(w.depth_lo[c], w.depth_hi[c], w.t);
   }
 };
-/// With `colours`, each of the k samples counts by the resemblance of its pixel's colour to the
-/// lattice node's (SurfaceColours::weight) and the rank-th smallest becomes the depth at which
+/// With `image.colours`, each of the k samples counts by the resemblance of its pixel's colour to
+/// the lattice node's (SurfaceColours::weight) and the rank-th smallest becomes the depth at which
 /// the depth-sorted weight reaches (rank - 0.5) / k of the total: a surface that looks like the
-/// pixel decides, not the nearest of another colour (a parked car's returns for the facade above).
+/// pixel decides, not the nearest of another colour (a parked car's returns for the facade above);
+/// with `image.walls` that sample, when it looks like the node, continues as a wall along the view
+/// (wallDepth).
 NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
                                       const PixelAngleGrid& angles, int k, int rank, int step,
                                       ThreadPool& pool,
                                       const std::vector<AngularSample>* support = nullptr,
-                                      const SurfaceColours* colours = nullptr);
+                                      const SurfacePriorImage& image = SurfacePriorImage{});
 
 }  // namespace multimodal_nvs

@@ -46,10 +46,32 @@ class SurfaceColours {
   float inv_two_sigma2_ = 0.0f;
 };
 
-/// The value at which the depth-sorted cumulative weight of (depths, weights) first reaches
-/// `fraction` of the total: with equal weights and fraction (rank - 0.5) / n the rank-th smallest
-/// depth (1 = smallest), the plain order statistic. Reorders both vectors; at least one value.
-float weightedOrderStatistic(std::vector<float>& depths, std::vector<float>& weights,
-                             double fraction);
+/// Which of (depths, weights) is the one at which the depth-sorted cumulative weight first
+/// reaches `fraction` of the total (its index): with equal weights and fraction (rank - 0.5) / n
+/// the rank-th smallest depth (1 = smallest), the plain order statistic. At least one value.
+std::size_t weightedOrderStatistic(const std::vector<float>& depths,
+                                   const std::vector<float>& weights, double fraction);
+
+/// The nearest-surface prior's use of the image (nearestSurfaceRows): its returns weighed by
+/// colour, and, with `walls`, a return that looks like the pixel continued as a wall along the
+/// viewing direction towards the image centre (the lateral offset X = x z of a facade or a row of
+/// parked cars is constant along it, so a pixel at normalised x there lies at X / x, capped at
+/// `wall_cap_m`), as image_guided's own prior does (lateral_prior) but only across its colour.
+struct SurfacePriorImage {
+  const SurfaceColours* colours = nullptr;  ///< nullptr: no image, every return counts the same
+  bool walls = false;
+  double wall_cap_m = 100.0;
+};
+
+/// The wall rule of SurfacePriorImage: the depth at a pixel of normalised column x `pixel_x` of a
+/// wall through a return at `return_x` and `return_depth`, when the pixel lies between the return
+/// and the image centre (same side, nearer the axis) and the return is at least
+/// kWallMinOffAxis off it; otherwise `return_depth`. Capped at `cap`.
+double wallDepth(double return_x, double return_depth, double pixel_x, double cap);
+/// A return this close to the optical axis (normalised x) is not continued as a wall: the back of
+/// a vehicle ahead, not a facade along the street.
+constexpr double kWallMinOffAxis = 0.05;
+/// The colour weight (SurfaceColours::weight) a return needs to be continued as the pixel's wall.
+constexpr float kWallMinColourWeight = 0.5f;
 
 }  // namespace multimodal_nvs

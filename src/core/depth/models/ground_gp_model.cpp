@@ -87,9 +87,11 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
   std::optional<SurfaceColours> colours;
   if (g.surface_colour_sigma > 0.0 && !image.empty())
     colours.emplace(image, angles.grid().image, g.surface_colour_sigma);
-  const NearestSurfaceRows surface = nearestSurfaceRows(
-      objects, angles, g.surface_k, g.surface_rank, step, pool,
-      objects.size() == samples.size() ? nullptr : &samples, colours ? &*colours : nullptr);
+  const NearestSurfaceRows surface =
+      nearestSurfaceRows(objects, angles, g.surface_k, g.surface_rank, step, pool,
+                         objects.size() == samples.size() ? nullptr : &samples,
+                         SurfacePriorImage{colours ? &*colours : nullptr, g.surface_colour_walls,
+                                           params.guided.far_depth});
   const PinholeIntrinsics& k = angles.intrinsics();
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
