@@ -38,6 +38,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.ground.surface_step_px = config.ground_surface_step_px;
   p.ground.surface_colour_sigma = config.ground_surface_colour_sigma;
   p.ground.surface_colour_walls = config.ground_surface_colour_walls;
+  p.ground.surface_colour_fill_deg = config.ground_surface_colour_fill_deg;
   p.ground.residual_amplitude = config.ground_residual_amplitude;
   p.ground.relative_sigma = config.ground_relative_sigma;
   p.ground.relative_sigma_per_deg = config.ground_relative_sigma_per_deg;
@@ -54,6 +55,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   g.prior_step_px = config.guided_prior_step_px;
   g.prior_colour_sigma = config.guided_prior_colour_sigma;
   g.prior_colour_walls = config.guided_prior_colour_walls;
+  g.prior_colour_fill_deg = config.guided_prior_colour_fill_deg;
   g.prior_weight = config.guided_prior_weight;
   g.far_depth = config.guided_far_depth;
   g.ground_prior = config.guided_ground_prior;
@@ -102,6 +104,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.ground_surface_step_px = p.ground.surface_step_px;
   config.ground_surface_colour_sigma = p.ground.surface_colour_sigma;
   config.ground_surface_colour_walls = p.ground.surface_colour_walls;
+  config.ground_surface_colour_fill_deg = p.ground.surface_colour_fill_deg;
   config.ground_residual_amplitude = p.ground.residual_amplitude;
   config.ground_relative_sigma = p.ground.relative_sigma;
   config.ground_relative_sigma_per_deg = p.ground.relative_sigma_per_deg;
@@ -118,6 +121,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.guided_prior_step_px = g.prior_step_px;
   config.guided_prior_colour_sigma = g.prior_colour_sigma;
   config.guided_prior_colour_walls = g.prior_colour_walls;
+  config.guided_prior_colour_fill_deg = g.prior_colour_fill_deg;
   config.guided_prior_weight = g.prior_weight;
   config.guided_far_depth = g.far_depth;
   config.guided_ground_prior = g.ground_prior;

@@ -120,6 +120,9 @@ void DepthCompletionParams::validate() const {
     if (!(ground.surface_colour_sigma >= 0.0) || !std::isfinite(ground.surface_colour_sigma)) {
       fail("ground surface_colour_sigma must be >= 0");
     }
+    if (!(ground.surface_colour_fill_deg >= 0.0) || !(ground.surface_colour_fill_deg <= 90.0)) {
+      fail("ground surface_colour_fill_deg must be in [0, 90]");
+    }
     if (ground.scan_origin_known &&
         !(std::isfinite(ground.scan_origin_x) && std::isfinite(ground.scan_origin_y) &&
           std::isfinite(ground.scan_origin_z))) {
@@ -162,6 +165,9 @@ void ImageGuidedParams::validate(const GroundPriorParams& plane) const {
   if (prior_step_px < 1 || prior_step_px > 16) fail("prior_step_px must be in [1, 16]");
   if (!(prior_colour_sigma >= 0.0) || !std::isfinite(prior_colour_sigma)) {
     fail("prior_colour_sigma must be >= 0");
+  }
+  if (!(prior_colour_fill_deg >= 0.0) || !(prior_colour_fill_deg <= 90.0)) {
+    fail("prior_colour_fill_deg must be in [0, 90]");
   }
   if (ground_prior) {
     if (!(plane.camera_height > 0.0)) fail("needs ground camera_height > 0");

@@ -2,6 +2,7 @@
 
 #include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
+#include "multimodal_nvs/core/depth/enclosed_surfaces.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -294,6 +295,17 @@ double nextRadius(double kth_distance, float qaz, float qel, float next_az, floa
   return (kth_distance + std::sqrt(da * da + de * de)) * 1.01;
 }
 
+// A look-alike return's depth at a lattice node of azimuth `node_azimuth_deg`: with walls, the
+// wall along the view through it (wallDepth), else its own depth. Normalised image x = X / Z =
+// tan(azimuth) (the angular convention), lens or not.
+double lookAlikeDepth(const AngularSample& look_alike, float node_azimuth_deg,
+                      const SurfacePriorImage& image) {
+  if (!image.walls) return look_alike.depth;
+  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+  return wallDepth(std::tan(double(look_alike.azimuth_deg) * kDegToRad), look_alike.depth,
+                   std::tan(double(node_azimuth_deg) * kDegToRad), image.wall_cap_m);
+}
+
 }  // namespace
 
 NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
@@ -367,6 +379,10 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
     s.weights.reserve(kk);
   }
   PerWorker<std::vector<std::pair<double, int>>> binned(pool.size());
+  // With colours: each node's chosen return when it looks like the node (else -1), for the
+  // enclosed nodes below.
+  const bool fill_enclosed = colours != nullptr && image.fill_deg > 0.0;
+  std::vector<int> node_look_alike(fill_enclosed ? node_rows.size() * lattice_cols : 0, -1);
   pool.parallelFor(static_cast<long long>(node_rows.size()), [&](long long i, int worker) {
     BruteForceScratch& s = scratch[worker];
     std::vector<std::pair<double, int>>& found = binned[worker];
@@ -441,12 +457,9 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
         const std::size_t chosen =
             weightedOrderStatistic(d, s.weights, (double(pick) + 0.5) / double(d.size()));
         double depth = d[chosen];
-        if (image.walls && s.weights[chosen] > kWallMinColourWeight) {
-          // Normalised image x = X / Z = tan(azimuth) (the angular convention), lens or not.
-          constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
-          const AngularSample& wall = front[s.nearest[chosen]];
-          depth = wallDepth(std::tan(double(wall.azimuth_deg) * kDegToRad), depth,
-                            std::tan(double(qaz) * kDegToRad), image.wall_cap_m);
+        if (s.weights[chosen] > kWallMinColourWeight) {
+          depth = lookAlikeDepth(front[s.nearest[chosen]], qaz, image);
+          if (fill_enclosed) node_look_alike[i * lattice_cols + j] = s.nearest[chosen];
         }
         node_depth[i * lattice_cols + j] = static_cast<float>(depth);
       } else {
@@ -456,6 +469,24 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
           separate_support ? support_distance : static_cast<float>(std::sqrt(nearest_d2));
     }
   });
+  if (fill_enclosed) {
+    // A node that looks like none of its returns, enclosed by nodes that found theirs, takes the
+    // nearest of those (enclosed_surfaces.hpp): a facade's windows its facade's depth.
+    const int radius =
+        nodesWithin(image.fill_deg, double(step) * grid.stride, angles.intrinsics().fx);
+    const std::vector<int> enclosing =
+        enclosingLookAlikes(node_look_alike, static_cast<int>(node_rows.size()),
+                            static_cast<int>(lattice_cols), radius);
+    for (std::size_t i = 0; i < node_rows.size(); ++i) {
+      for (std::size_t j = 0; j < lattice_cols; ++j) {
+        const int look_alike = enclosing[i * lattice_cols + j];
+        if (look_alike < 0) continue;
+        const float qaz = angles.azimuthRow(node_rows[i])[node_cols[j]];
+        node_depth[i * lattice_cols + j] =
+            static_cast<float>(lookAlikeDepth(front[look_alike], qaz, image));
+      }
+    }
+  }
   // Interpolation along each lattice row (the first half of the bilinear interpolation).
   out.depth_rows.assign(node_rows.size() * cols, INFINITY);
   out.distance_rows.resize(node_rows.size() * cols);

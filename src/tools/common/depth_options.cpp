@@ -96,6 +96,11 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "with --surface-colour-sigma: a return that looks like the pixel continues as a "
                  "wall along the view towards the image centre")
       ->group(kGround);
+  app.add_option("--surface-colour-fill-deg", g.surface_colour_fill_deg,
+                 "with --surface-colour-sigma: a node that looks like none of its returns, "
+                 "enclosed within this angle by nodes that look like theirs, takes theirs (0: off)")
+      ->check(CLI::Range(0.0, 90.0))
+      ->group(kGround);
   app.add_option("--relative-sigma", g.relative_sigma, "prior std / depth at a sample")
       ->check(atLeast(0))
       ->group(kGround);
@@ -153,6 +158,12 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
   app.add_option("--guided-prior-colour-walls", ig.prior_colour_walls,
                  "ground_gp's prior continues a return that looks like the pixel as a wall along "
                  "the view towards the image centre (with the colours)")
+      ->group(guided);
+  app.add_option(
+         "--guided-prior-colour-fill-deg", ig.prior_colour_fill_deg,
+         "ground_gp's prior: a node that looks like none of its returns, enclosed within "
+         "this angle by nodes that look like theirs, takes theirs (with the colours; 0: off)")
+      ->check(CLI::Range(0.0, 90.0))
       ->group(guided);
   app.add_option("--guided-prior-weight", ig.prior_weight, "confidence of the prior per pixel")
       ->check(atLeast(0))

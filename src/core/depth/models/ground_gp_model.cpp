@@ -91,7 +91,7 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
       nearestSurfaceRows(objects, angles, g.surface_k, g.surface_rank, step, pool,
                          objects.size() == samples.size() ? nullptr : &samples,
                          SurfacePriorImage{colours ? &*colours : nullptr, g.surface_colour_walls,
-                                           params.guided.far_depth});
+                                           params.guided.far_depth, g.surface_colour_fill_deg});
   const PinholeIntrinsics& k = angles.intrinsics();
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();

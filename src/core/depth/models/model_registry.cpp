@@ -156,6 +156,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     ground_gp.model = DepthModel::kGroundGp;
     ground_gp.ground.surface_colour_sigma = params.guided.prior_colour_sigma;
     ground_gp.ground.surface_colour_walls = params.guided.prior_colour_walls;
+    ground_gp.ground.surface_colour_fill_deg = params.guided.prior_colour_fill_deg;
     PixelPredictions own_prior;
     PixelPredictions& prior = scratch != nullptr ? scratch->model_prior : own_prior;
     // The prior is computed on a coarser grid when prior_step_px asks for it (only with the
