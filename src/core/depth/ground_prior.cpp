@@ -2,7 +2,7 @@
 
 #include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
-#include "multimodal_nvs/core/depth/enclosed_surfaces.hpp"
+#include "multimodal_nvs/core/depth/look_alike_fill.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -379,10 +379,10 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
     s.weights.reserve(kk);
   }
   PerWorker<std::vector<std::pair<double, int>>> binned(pool.size());
-  // With colours: each node's chosen return when it looks like the node (else -1), for the
-  // enclosed nodes below.
-  const bool fill_enclosed = colours != nullptr && image.fill_deg > 0.0;
-  std::vector<int> node_look_alike(fill_enclosed ? node_rows.size() * lattice_cols : 0, -1);
+  // With colours: each node's chosen return when it looks like the node (else -1), for the nodes
+  // that look like none of theirs (below).
+  const bool fill_look_alikes = colours != nullptr && image.fill_deg > 0.0;
+  std::vector<int> node_look_alike(fill_look_alikes ? node_rows.size() * lattice_cols : 0, -1);
   pool.parallelFor(static_cast<long long>(node_rows.size()), [&](long long i, int worker) {
     BruteForceScratch& s = scratch[worker];
     std::vector<std::pair<double, int>>& found = binned[worker];
@@ -459,7 +459,7 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
         double depth = d[chosen];
         if (s.weights[chosen] > kWallMinColourWeight) {
           depth = lookAlikeDepth(front[s.nearest[chosen]], qaz, image);
-          if (fill_enclosed) node_look_alike[i * lattice_cols + j] = s.nearest[chosen];
+          if (fill_look_alikes) node_look_alike[i * lattice_cols + j] = s.nearest[chosen];
         }
         node_depth[i * lattice_cols + j] = static_cast<float>(depth);
       } else {
@@ -469,17 +469,17 @@ NearestSurfaceRows nearestSurfaceRows(const std::vector<AngularSample>& samples,
           separate_support ? support_distance : static_cast<float>(std::sqrt(nearest_d2));
     }
   });
-  if (fill_enclosed) {
-    // A node that looks like none of its returns, enclosed by nodes that found theirs, takes the
-    // nearest of those (enclosed_surfaces.hpp): a facade's windows its facade's depth.
+  if (fill_look_alikes) {
+    // A node that looks like none of its returns takes the look-alike return of the nearest node
+    // along its row or column that found one (look_alike_fill.hpp): a window its facade's wall.
     const int radius =
         nodesWithin(image.fill_deg, double(step) * grid.stride, angles.intrinsics().fx);
-    const std::vector<int> enclosing =
-        enclosingLookAlikes(node_look_alike, static_cast<int>(node_rows.size()),
-                            static_cast<int>(lattice_cols), radius);
+    const std::vector<int> nearest_look_alike =
+        nearestLookAlikes(node_look_alike, static_cast<int>(node_rows.size()),
+                          static_cast<int>(lattice_cols), radius);
     for (std::size_t i = 0; i < node_rows.size(); ++i) {
       for (std::size_t j = 0; j < lattice_cols; ++j) {
-        const int look_alike = enclosing[i * lattice_cols + j];
+        const int look_alike = nearest_look_alike[i * lattice_cols + j];
         if (look_alike < 0) continue;
         const float qaz = angles.azimuthRow(node_rows[i])[node_cols[j]];
         node_depth[i * lattice_cols + j] =

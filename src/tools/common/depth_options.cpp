@@ -97,8 +97,9 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "wall along the view towards the image centre")
       ->group(kGround);
   app.add_option("--surface-colour-fill-deg", g.surface_colour_fill_deg,
-                 "with --surface-colour-sigma: a node that looks like none of its returns, "
-                 "enclosed within this angle by nodes that look like theirs, takes theirs (0: off)")
+                 "with --surface-colour-sigma: a node that looks like none of its returns takes "
+                 "the look-alike return of the nearest node along its row or column within this "
+                 "angle (degrees) that found one (0: off)")
       ->check(CLI::Range(0.0, 90.0))
       ->group(kGround);
   app.add_option("--relative-sigma", g.relative_sigma, "prior std / depth at a sample")
@@ -161,8 +162,9 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
       ->group(guided);
   app.add_option(
          "--guided-prior-colour-fill-deg", ig.prior_colour_fill_deg,
-         "ground_gp's prior: a node that looks like none of its returns, enclosed within "
-         "this angle by nodes that look like theirs, takes theirs (with the colours; 0: off)")
+         "ground_gp's prior: a node that looks like none of its returns takes the look-alike "
+         "return of the nearest node along its row or column within this angle (degrees) that "
+         "found one (with the colours; 0: off)")
       ->check(CLI::Range(0.0, 90.0))
       ->group(guided);
   app.add_option("--guided-prior-weight", ig.prior_weight, "confidence of the prior per pixel")

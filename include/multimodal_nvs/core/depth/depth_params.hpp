@@ -51,9 +51,9 @@ struct GroundPriorParams {
   /// With surface_colour_sigma: the chosen return, when it looks like the node, continues as a
   /// wall along the view towards the image centre (SurfacePriorImage, capped at guided.far_depth).
   bool surface_colour_walls = true;
-  /// With surface_colour_sigma: a lattice node that looks like none of its returns, enclosed
-  /// (on three of its four sides, within this angle in degrees) by nodes that look like theirs,
-  /// takes the nearest of theirs (a facade's windows: enclosed_surfaces.hpp). 0: off.
+  /// With surface_colour_sigma: a lattice node that looks like none of its returns takes the
+  /// look-alike return of the nearest node along its row or column, within this angle (degrees),
+  /// that found one (a facade's windows its facade's: look_alike_fill.hpp). 0: off.
   double surface_colour_fill_deg = 0.0;
   double residual_amplitude = 1.0;       ///< GP amplitude of the residual (metres); 0: no GP
   double relative_sigma = 0.25;          ///< prior std as a fraction of its depth, at a sample ...
@@ -144,9 +144,8 @@ struct ImageGuidedParams {
   /// prior's colours").
   bool prior_colour_walls = true;
   /// With ground_gp_prior: ground_gp's ground.surface_colour_fill_deg for the prior. Chosen on the
-  /// synthetic dev scenes (lattice radius 2 / 4 / 8 / 16 nodes there: covered PSNR 21.38 / 21.53
-  /// / 21.71 / 21.86 dB against 21.26 off); 10 degrees is 8 nodes there, 16 at VoD's focal length.
-  /// README, "Enclosed surfaces".
+  /// synthetic dev scenes (covered PSNR 21.26 dB off; 21.99 at 10 degrees, 8 nodes there, 16 at
+  /// VoD's focal length); README, "Surfaces that look like none of their returns".
   double prior_colour_fill_deg = 10.0;
   bool edges = true;              ///< false: a uniform guide (no image edges; the ablation)
   bool sky = true;                ///< detect the sky and send it to far_depth

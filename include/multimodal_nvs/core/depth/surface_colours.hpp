@@ -61,8 +61,9 @@ struct SurfacePriorImage {
   const SurfaceColours* colours = nullptr;  ///< nullptr: no image, every return counts the same
   bool walls = false;
   double wall_cap_m = 100.0;
-  /// > 0: a lattice node whose chosen return does not look like it, enclosed within this angle
-  /// by nodes whose do, takes the nearest of theirs (enclosed_surfaces.hpp); 0: off
+  /// > 0: a lattice node whose chosen return does not look like it takes the look-alike return of
+  /// the nearest node along its row or column within this angle (degrees) that found one
+  /// (look_alike_fill.hpp); 0: off
   double fill_deg = 0.0;
 };
 

@@ -1,15 +1,16 @@
-// The enclosed-surface rule of the nearest-surface prior: a node that looks like none of its
-// returns, enclosed by nodes that look like theirs, takes the nearest of theirs.
+// The nearest-surface prior's fill: a node that looks like none of its returns takes the
+// look-alike return of the nearest node along its row or column that found one.
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
+#include <utility>
 #include <vector>
 
 #include "core/scene_fixtures.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
-#include "multimodal_nvs/core/depth/enclosed_surfaces.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/look_alike_fill.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 #include "multimodal_nvs/core/depth/surface_colours.hpp"
 
@@ -19,7 +20,7 @@ using mm::test::smallCamera;
 using mm::test::smallImage;
 
 namespace {
-// A rows x cols lattice of look-alike returns `label` everywhere but the nodes listed (-1).
+// A rows x cols lattice of look-alike return `label` everywhere but the nodes listed (-1).
 std::vector<int> lattice(int rows, int cols, int label,
                          const std::vector<std::pair<int, int>>& open) {
   std::vector<int> l(std::size_t(rows) * cols, label);
@@ -29,9 +30,9 @@ std::vector<int> lattice(int rows, int cols, int label,
 }
 }  // namespace
 
-TEST(EnclosedSurfaces, AWindowInsideAFacadeTakesTheFacadesReturn) {
+TEST(LookAlikeFill, AWindowInsideAFacadeTakesTheFacadesReturn) {
   const std::vector<int> l = lattice(5, 5, 7, {{2, 2}, {2, 3}});
-  const std::vector<int> e = mm::enclosingLookAlikes(l, 5, 5, 2);
+  const std::vector<int> e = mm::nearestLookAlikes(l, 5, 5, 2);
   EXPECT_EQ(e[2 * 5 + 2], 7);
   EXPECT_EQ(e[2 * 5 + 3], 7);
   // Nodes with their own look-alike are left alone.
@@ -42,39 +43,36 @@ TEST(EnclosedSurfaces, AWindowInsideAFacadeTakesTheFacadesReturn) {
   }
 }
 
-TEST(EnclosedSurfaces, ThreeSidesEncloseTwoDoNot) {
-  // Node (1, 1) of a 3x3 lattice whose bottom row and right column have no look-alike: open below
-  // and to the right (two sides) -> not enclosed. With the right column closed: three sides.
-  std::vector<int> l = lattice(3, 3, 4, {{1, 1}, {2, 0}, {2, 1}, {2, 2}, {0, 2}, {1, 2}});
-  EXPECT_EQ(mm::enclosingLookAlikes(l, 3, 3, 2)[1 * 3 + 1], -1);
-  l = lattice(3, 3, 4, {{1, 1}, {2, 0}, {2, 1}, {2, 2}});
-  EXPECT_EQ(mm::enclosingLookAlikes(l, 3, 3, 2)[1 * 3 + 1], 4);
-  static_assert(mm::kEnclosingSides == 3, "the test's cases assume three sides");
-}
-
-TEST(EnclosedSurfaces, OnlyLookAlikesWithinTheRadiusCountAndTheNearestWins) {
-  // Row 0 of a 1-row lattice can only see left and right: never three sides.
-  EXPECT_EQ(mm::enclosingLookAlikes({1, -1, 2}, 1, 3, 5)[1], -1);
-  // A 7x7 lattice, all open but a cross of look-alikes around the centre (3, 3): left at 1 node
-  // (label 1), right at 2 (label 2), above at 3 (label 3), below none.
+TEST(LookAlikeFill, TheNearestAlongTheRowOrColumnWithinTheRadiusWins) {
+  // A 7x7 lattice, all without look-alikes but three around the centre (3, 3): left at 2 nodes
+  // (label 1), right at 1 (label 2), above at 3 (label 3).
   std::vector<int> l(49, -1);
-  l[3 * 7 + 2] = 1;
-  l[3 * 7 + 5] = 2;
-  l[0 * 7 + 3] = 3;
-  EXPECT_EQ(mm::enclosingLookAlikes(l, 7, 7, 3)[3 * 7 + 3], 1);   // three sides, left nearest
-  EXPECT_EQ(mm::enclosingLookAlikes(l, 7, 7, 2)[3 * 7 + 3], -1);  // above is 3 nodes away
-  // Left and right at the same distance: the first side in the order left, right, above, below.
-  l[3 * 7 + 2] = -1;
   l[3 * 7 + 1] = 1;
-  EXPECT_EQ(mm::enclosingLookAlikes(l, 7, 7, 3)[3 * 7 + 3], 1);
+  l[3 * 7 + 4] = 2;
+  l[0 * 7 + 3] = 3;
+  EXPECT_EQ(mm::nearestLookAlikes(l, 7, 7, 3)[3 * 7 + 3], 2);
+  // Only the one above within reach of (6, 3)? It is 6 nodes up: beyond a radius of 3.
+  EXPECT_EQ(mm::nearestLookAlikes(l, 7, 7, 3)[6 * 7 + 3], -1);
+  EXPECT_EQ(mm::nearestLookAlikes(l, 7, 7, 6)[6 * 7 + 3], 3);
+  // A diagonal neighbour does not count: label 1 at (3, 1) is in neither row 2 nor column 2.
+  EXPECT_EQ(mm::nearestLookAlikes(l, 7, 7, 1)[2 * 7 + 2], -1);
+  // Equal distances: the first side in the order left, right, above, below.
+  l[3 * 7 + 4] = -1;
+  l[3 * 7 + 5] = 2;
+  EXPECT_EQ(mm::nearestLookAlikes(l, 7, 7, 3)[3 * 7 + 3], 1);
+  // A filled node passes nothing on: (3, 2) takes label 1 at 1 node, but (3, 3) gets nothing
+  // within 1 node from it.
+  EXPECT_EQ(mm::nearestLookAlikes(l, 7, 7, 1)[3 * 7 + 3], -1);
 }
 
-TEST(EnclosedSurfaces, BadInputGivesNoFill) {
-  EXPECT_EQ(mm::enclosingLookAlikes({-1, 1, 1}, 2, 2, 2), std::vector<int>(3, -1));  // size
-  EXPECT_EQ(mm::enclosingLookAlikes(lattice(3, 3, 1, {{1, 1}}), 3, 3, 0), std::vector<int>(9, -1));
+TEST(LookAlikeFill, BadInputGivesNoFill) {
+  EXPECT_EQ(mm::nearestLookAlikes({-1, 1, 1}, 2, 2, 2), std::vector<int>(3, -1));  // size
+  EXPECT_EQ(mm::nearestLookAlikes(lattice(3, 3, 1, {{1, 1}}), 3, 3, 0),
+            std::vector<int>(9, -1));  // radius
+  EXPECT_TRUE(mm::nearestLookAlikes({}, 0, 0, 2).empty());
 }
 
-TEST(EnclosedSurfaces, TheRadiusIsAnAngleAtTheLatticesSpacing) {
+TEST(LookAlikeFill, TheRadiusIsAnAngleAtTheLatticesSpacing) {
   // 16 px at f = 748 px (the synthetic scenes) is 1.225 degrees: 10 degrees are 8 nodes; at VoD's
   // f = 1495 px 16 of them.
   EXPECT_EQ(mm::nodesWithin(10.0, 16.0, 748.0), 8);
@@ -85,9 +83,9 @@ TEST(EnclosedSurfaces, TheRadiusIsAnAngleAtTheLatticesSpacing) {
 }
 
 // A facade (one return, its colour) with a window of another colour in it, and a red car below
-// with a nearer return. Without the rule the window's nodes, which look like neither return, take
+// with a nearer return. Without the fill the window's nodes, which look like neither return, take
 // the nearer (the car's); with it, the facade's wall.
-TEST(EnclosedSurfaces, TheNearestSurfacePriorGivesAWindowItsFacadesWall) {
+TEST(LookAlikeFill, TheNearestSurfacePriorGivesAWindowItsFacadesWall) {
   const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
   mm::ThreadPool pool(2);
   cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar(150, 190, 200));
@@ -108,4 +106,8 @@ TEST(EnclosedSurfaces, TheNearestSurfacePriorGivesAWindowItsFacadesWall) {
   EXPECT_NEAR(open.depth(50, 108), 6.0 / 0.28, 1e-3);
   EXPECT_NEAR(filled.depth(50, 108), 6.0 / 0.28, 1e-3);
   EXPECT_NEAR(filled.depth(90, 125), 6.0f, 1e-4f);
+  // Without colours there is nothing to fill from: the fill changes nothing.
+  const mm::SurfacePriorImage plain{nullptr, true, 100.0, 20.0};
+  EXPECT_EQ(mm::nearestSurfaceRows(samples, angles, 2, 1, 1, pool, nullptr, plain).depth_rows,
+            mm::nearestSurfaceRows(samples, angles, 2, 1, 1, pool).depth_rows);
 }

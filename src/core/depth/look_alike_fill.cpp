@@ -1,12 +1,12 @@
-#include "multimodal_nvs/core/depth/enclosed_surfaces.hpp"
+#include "multimodal_nvs/core/depth/look_alike_fill.hpp"
 
 #include <cmath>
 #include <cstddef>
 
 namespace multimodal_nvs {
 
-std::vector<int> enclosingLookAlikes(const std::vector<int>& look_alike, int rows, int cols,
-                                     int radius) {
+std::vector<int> nearestLookAlikes(const std::vector<int>& look_alike, int rows, int cols,
+                                   int radius) {
   std::vector<int> out(look_alike.size(), -1);
   if (radius < 1 || rows < 1 || cols < 1 || look_alike.size() != std::size_t(rows) * cols)
     return out;
@@ -14,22 +14,20 @@ std::vector<int> enclosingLookAlikes(const std::vector<int>& look_alike, int row
   for (int r = 0; r < rows; ++r) {
     for (int c = 0; c < cols; ++c) {
       if (look_alike[std::size_t(r) * cols + c] >= 0) continue;
-      int sides = 0, nearest = -1, nearest_steps = radius + 1;
+      int nearest = -1, nearest_steps = radius + 1;
       for (int side = 0; side < 4; ++side) {
-        for (int t = 1; t <= radius; ++t) {
+        // Only nearer than the best so far can win (ties keep the earlier side).
+        for (int t = 1; t < nearest_steps; ++t) {
           const int rr = r + side_row[side] * t, cc = c + side_col[side] * t;
           if (rr < 0 || cc < 0 || rr >= rows || cc >= cols) break;
           const int found = look_alike[std::size_t(rr) * cols + cc];
           if (found < 0) continue;
-          ++sides;
-          if (t < nearest_steps) {
-            nearest_steps = t;
-            nearest = found;
-          }
+          nearest_steps = t;
+          nearest = found;
           break;
         }
       }
-      if (sides >= kEnclosingSides) out[std::size_t(r) * cols + c] = nearest;
+      out[std::size_t(r) * cols + c] = nearest;
     }
   }
   return out;
