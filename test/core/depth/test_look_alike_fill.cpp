@@ -2,13 +2,16 @@
 // look-alike return of the nearest node along its row or column that found one.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <opencv2/core.hpp>
 #include <utility>
 #include <vector>
 
 #include "core/scene_fixtures.hpp"
+#include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
+#include "multimodal_nvs/core/depth/depth_params.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/look_alike_fill.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
@@ -110,4 +113,27 @@ TEST(LookAlikeFill, TheNearestSurfacePriorGivesAWindowItsFacadesWall) {
   const mm::SurfacePriorImage plain{nullptr, true, 100.0, 20.0};
   EXPECT_EQ(mm::nearestSurfaceRows(samples, angles, 2, 1, 1, pool, nullptr, plain).depth_rows,
             mm::nearestSurfaceRows(samples, angles, 2, 1, 1, pool).depth_rows);
+}
+
+// Both parameters are angles in [0, 90] degrees; anything else (negative, beyond, NaN, infinite)
+// is an InputError naming the parameter, before any work.
+TEST(LookAlikeFill, AnglesOutsideZeroToNinetyDegreesAreRejected) {
+  mm::DepthCompletionParams guided;
+  guided.model = mm::DepthModel::kImageGuided;
+  mm::DepthCompletionParams ground;
+  ground.model = mm::DepthModel::kGroundGp;
+  EXPECT_NO_THROW(guided.validate());
+  EXPECT_NO_THROW(ground.validate());
+  for (const double bad : {-1.0, 90.5, double(NAN), double(INFINITY)}) {
+    mm::DepthCompletionParams p = guided;
+    p.guided.prior_colour_fill_deg = bad;
+    EXPECT_THROW(p.validate(), mm::InputError) << bad;
+    p = ground;
+    p.ground.surface_colour_fill_deg = bad;
+    EXPECT_THROW(p.validate(), mm::InputError) << bad;
+  }
+  guided.guided.prior_colour_fill_deg = 90.0;
+  ground.ground.surface_colour_fill_deg = 0.0;
+  EXPECT_NO_THROW(guided.validate());
+  EXPECT_NO_THROW(ground.validate());
 }
