@@ -36,9 +36,12 @@ set(MMNVS_FUSED_MULTIPLY_ADD_SOURCES src/core/depth/gp/gp_prediction.cpp
 # ground_gp's full-image pass chooses between ground, surface and far depth per pixel; GCC turns
 # those choices into vector blends only if floating-point exceptions need not be preserved (nothing
 # reads the FP status flags; results are unchanged). The bilateral filter's column loop (NaN rules,
-# a branch-free exponential) and ipbasic's output pass vectorise only under the same flag.
+# a branch-free exponential), ipbasic's output pass and kernel regression's moments (two divisions
+# by a weight sum that may be 0 where the result is then not selected) vectorise only under the
+# same flag.
 set(MMNVS_NO_TRAPPING_MATH_SOURCES src/core/depth/models/ground_gp_model.cpp
-  src/core/common/bilateral_filter.cpp src/core/depth/models/ipbasic_model.cpp)
+  src/core/common/bilateral_filter.cpp src/core/depth/models/ipbasic_model.cpp
+  src/core/depth/models/kernel_model.cpp)
 mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -ffp-contract=fast
   SOURCES ${MMNVS_FUSED_MULTIPLY_ADD_SOURCES})
 mmnvs_source_flags(TARGET multimodal_nvs_core OPTIONS -fno-trapping-math
