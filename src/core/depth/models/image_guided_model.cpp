@@ -244,7 +244,6 @@ struct DepthFromEvidence {
   float prior_weight;     // per grid pixel
   float return_relative;  // a return's relative std
   float prior_relative;   // the prior's relative std
-  float sky_variance;
 };
 
 /// One row of depth and variance from the smoothed sums: depth = 1 / (sum w x / sum w); the
@@ -252,8 +251,8 @@ struct DepthFromEvidence {
 /// order) plus a relative std between a return's and the prior's by the prior's share of the
 /// weight; with another model as the prior (kModelPrior), its own variance where only it speaks.
 /// Branch-free (both cases computed, one selected) so that it vectorises; the sky is written by
-/// the caller afterwards: with the sky's byte mask scanned in this function, GCC 12 kept the
-/// model-prior loop scalar ("control flow in loop"), ~14 % of the radar default at VoD's full
+/// the caller afterwards (writeSky): with the sky's byte mask scanned in this function, GCC 12 kept
+/// the model-prior loop scalar ("control flow in loop"), ~14 % of the radar default at VoD's full
 /// resolution.
 template <bool kModelPrior>
 void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict sum_w,
@@ -284,6 +283,18 @@ void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict su
   }
 }
 
+/// The sky's depth (the far clamp) and variance at the set bytes of `sky` (`count` pixels from
+/// `mean` and `variance`): the one place that says what a sky pixel gets, for a row or an image.
+void writeSky(const std::uint8_t* sky, int count, const ImageGuidedParams& g, float* mean,
+              float* variance) {
+  const float far = static_cast<float>(g.far_depth);
+  const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
+  forEachSetByte(sky, count, [&](int i) {
+    mean[i] = far;
+    variance[i] = sky_variance;
+  });
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> imageSkyMask(const std::vector<AngularSample>& samples,
@@ -299,12 +310,7 @@ void applySkyMask(const std::vector<std::uint8_t>& sky, const ImageGuidedParams&
                   PixelPredictions& out) {
   if (sky.size() != out.mean.size() || sky.size() != out.variance.size())
     throw InputError("applySkyMask: the sky mask and the prediction differ in size");
-  const float far = static_cast<float>(g.far_depth);
-  const float sky_variance = static_cast<float>(g.sky_sigma * g.sky_sigma);
-  forEachSetByte(sky.data(), static_cast<int>(sky.size()), [&](int i) {
-    out.mean[i] = far;
-    out.variance[i] = sky_variance;
-  });
+  writeSky(sky.data(), static_cast<int>(sky.size()), g, out.mean.data(), out.variance.data());
 }
 
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
@@ -373,8 +379,7 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   out.mean.resize(n);
   out.variance.resize(n);
   const DepthFromEvidence to_depth{far, prior_weight, static_cast<float>(g.return_relative_sigma),
-                                   static_cast<float>(g.relative_sigma),
-                                   static_cast<float>(g.sky_sigma * g.sky_sigma)};
+                                   static_cast<float>(g.relative_sigma)};
   pool.parallelFor(
       rows,
       [&](long long row, int) {
@@ -391,12 +396,8 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
           depthFromEvidenceRow<false>(to_depth, sum_w, sum_wx, sum_wxx, nullptr, cols,
                                       out.mean.data() + i, out.variance.data() + i);
         }
-        if (sky_row != nullptr) {
-          forEachSetByte(sky_row, cols, [&](int c) {
-            out.mean[i + c] = far;
-            out.variance[i + c] = to_depth.sky_variance;
-          });
-        }
+        if (sky_row != nullptr)
+          writeSky(sky_row, cols, g, out.mean.data() + i, out.variance.data() + i);
       },
       16);
 }
