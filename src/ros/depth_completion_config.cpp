@@ -45,6 +45,8 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.ground.input = parseGroundInput(config.ground_input);
   p.ground.dense_edge_ratio = config.ground_dense_edge_ratio;
   p.ground.dense_relative_sigma = config.ground_dense_relative_sigma;
+  p.ground.dense_vote_colour_sigma = config.ground_dense_vote_colour_sigma;
+  p.ground.dense_vote_colour_px = config.ground_dense_vote_colour_px;
   p.ground.image_sky = config.ground_image_sky;
   p.ground.drop_hidden_returns = config.ground_drop_hidden_returns;
   ImageGuidedParams& g = p.guided;
@@ -111,6 +113,8 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.ground_input = toString(p.ground.input);
   config.ground_dense_edge_ratio = p.ground.dense_edge_ratio;
   config.ground_dense_relative_sigma = p.ground.dense_relative_sigma;
+  config.ground_dense_vote_colour_sigma = p.ground.dense_vote_colour_sigma;
+  config.ground_dense_vote_colour_px = p.ground.dense_vote_colour_px;
   config.ground_image_sky = p.ground.image_sky;
   config.ground_drop_hidden_returns = p.ground.drop_hidden_returns;
   const ImageGuidedParams& g = p.guided;

@@ -85,8 +85,8 @@ DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const
   result.status = lookupSensorToCamera(tf_buffer, cloud.header, image.header, cloud_to_camera,
                                        sensor_to_camera);
   if (!result.status.ok()) return result;
-  // Only image_guided and ground_gp's sky read the pixels (a compressed image is already decoded,
-  // a raw one wrapped).
+  // Only image_guided and ground_gp's sky and colours read the pixels (a compressed image is
+  // already decoded, a raw one wrapped).
   cv::Mat pixels;
   if (settings.params.readsImage()) {
     result.input = "image";

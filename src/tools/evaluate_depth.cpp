@@ -311,7 +311,8 @@ int run(int argc, char** argv) {
     const mm::io::VodFrame frame{root, number};
     FrameResult res;
     res.frame = number;
-    // image_guided and ground_gp's sky read the camera image; the others only its size.
+    // image_guided and ground_gp's sky and colours read the camera image; the others only its
+    // size.
     const cv::Mat image =
         o.image_size.empty() || params.readsImage() ? readFrameImage(frame) : cv::Mat();
     mm::StrideGrid grid;

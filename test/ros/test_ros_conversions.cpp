@@ -757,6 +757,8 @@ TEST(ConfigMapping, DefaultsAreTheCoreDefaultsExceptRetention) {
   EXPECT_EQ(settings.params.guided.prior_colour_fill_deg, core.guided.prior_colour_fill_deg);
   EXPECT_EQ(settings.params.ground.surface_colour_fill_deg, core.ground.surface_colour_fill_deg);
   EXPECT_EQ(settings.params.ground.drop_hidden_returns, core.ground.drop_hidden_returns);
+  EXPECT_EQ(settings.params.ground.dense_vote_colour_sigma, core.ground.dense_vote_colour_sigma);
+  EXPECT_EQ(settings.params.ground.dense_vote_colour_px, core.ground.dense_vote_colour_px);
   EXPECT_EQ(settings.params.retain_percent, 80.0);  // the paper's choice, not the reference's 100
 }
 
@@ -775,6 +777,8 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   config.ground_surface_colour_walls = false;   // the default is true
   config.guided_prior_colour_fill_deg = 4.5;    // the default is 10
   config.ground_surface_colour_fill_deg = 6.5;  // the default is 0
+  config.ground_dense_vote_colour_sigma = 0.0;  // the default is 40
+  config.ground_dense_vote_colour_px = 24.0;    // the default is 16
   const mm::DepthCompletionSettings settings = mm::settingsFromConfig(config);
   EXPECT_EQ(settings.params.guided.prior_colour_sigma, 12.5);
   EXPECT_EQ(settings.params.ground.surface_colour_sigma, 7.5);
@@ -782,6 +786,8 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   EXPECT_FALSE(settings.params.ground.surface_colour_walls);
   EXPECT_EQ(settings.params.guided.prior_colour_fill_deg, 4.5);
   EXPECT_EQ(settings.params.ground.surface_colour_fill_deg, 6.5);
+  EXPECT_EQ(settings.params.ground.dense_vote_colour_sigma, 0.0);
+  EXPECT_EQ(settings.params.ground.dense_vote_colour_px, 24.0);
   EXPECT_TRUE(settings.params.ground.drop_hidden_returns);
   EXPECT_FALSE(settings.params.guided.lateral_prior);
   EXPECT_FALSE(settings.params.guided.ground_gp_prior);
@@ -802,6 +808,8 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   EXPECT_FALSE(back.ground_surface_colour_walls);
   EXPECT_EQ(back.guided_prior_colour_fill_deg, 4.5);
   EXPECT_EQ(back.ground_surface_colour_fill_deg, 6.5);
+  EXPECT_EQ(back.ground_dense_vote_colour_sigma, 0.0);
+  EXPECT_EQ(back.ground_dense_vote_colour_px, 24.0);
   EXPECT_EQ(mm::settingsFromConfig(back).params.shift.value, 12.5);
 
   config.model = "no_such_model";

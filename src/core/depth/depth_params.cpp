@@ -131,6 +131,12 @@ void DepthCompletionParams::validate() const {
     if (!(ground.dense_edge_ratio > 0.0) || !(ground.dense_relative_sigma >= 0.0)) {
       fail("ground dense_edge_ratio must be > 0 and dense_relative_sigma >= 0");
     }
+    if (!(ground.dense_vote_colour_sigma >= 0.0) || !(ground.dense_vote_colour_sigma <= 1000.0) ||
+        !(ground.dense_vote_colour_px >= 0.0) || !(ground.dense_vote_colour_px <= 10000.0)) {
+      fail(
+          "ground dense_vote_colour_sigma must be in [0, 1000] and dense_vote_colour_px in [0, "
+          "10000]");
+    }
     if (!(ground.plane_distance > 0.0) || !(ground.precise_fraction >= 0.0) ||
         !(ground.precise_fraction <= 1.0)) {
       fail("ground plane_distance must be > 0 and precise_fraction in [0, 1]");

@@ -37,16 +37,20 @@ CellColour SurfaceColours::at(double u, double v) const {
   return {sum[0] / n, sum[1] / n, sum[2] / n};
 }
 
+CellColour SurfaceColours::atSample(const AngularSample& sample,
+                                    const PixelAngleGrid& angles) const {
+  double u = 0.0, v = 0.0;
+  if (!angularToPixel(angles.intrinsics(), sample.azimuth_deg, sample.elevation_deg, &u, &v)) {
+    return {NAN, NAN, NAN};
+  }
+  return at(u, v);
+}
+
 std::vector<CellColour> SurfaceColours::atSamples(const std::vector<AngularSample>& samples,
                                                   const PixelAngleGrid& angles) const {
-  std::vector<CellColour> out(samples.size(), CellColour{NAN, NAN, NAN});
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    double u = 0.0, v = 0.0;
-    if (angularToPixel(angles.intrinsics(), samples[i].azimuth_deg, samples[i].elevation_deg, &u,
-                       &v)) {
-      out[i] = at(u, v);
-    }
-  }
+  std::vector<CellColour> out(samples.size());
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    out[i] = atSample(samples[i], angles);
   return out;
 }
 

@@ -121,6 +121,16 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "dense input: prior std / depth on a surface")
       ->check(positive())
       ->group(kGround);
+  app.add_option("--dense-vote-colour-sigma", g.dense_vote_colour_sigma,
+                 "dense input with the image: colour distance (0..255 per channel) at which a "
+                 "return's vote at an occlusion edge falls to exp(-1/2) (0: by angle alone)")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->group(kGround);
+  app.add_option("--dense-vote-colour-px", g.dense_vote_colour_px,
+                 "dense input with the image: distance (image pixels) from the nearest return at "
+                 "which the colours get their full say in the vote (none within half of it)")
+      ->check(CLI::Range(0.0, 10000.0))
+      ->group(kGround);
   app.add_option("--drop-hidden-returns", g.drop_hidden_returns,
                  "dense input: 1 leave out the returns the camera cannot see (the scanner, at the "
                  "calibration's sensor origin, saw past a near object), 0 keep every return")

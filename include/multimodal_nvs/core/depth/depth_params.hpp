@@ -66,6 +66,15 @@ struct GroundPriorParams {
   /// fraction (or both are ground returns); otherwise the edge between them is an occlusion edge.
   double dense_edge_ratio = 0.1;
   double dense_relative_sigma = 0.03;  ///< dense mode: prior std / depth inside a surface
+  /// Dense mode with the camera image: in a triangle across an occlusion edge, each return's vote
+  /// for the pixel's surface also counts by how much its pixel's colour resembles the pixel's (a
+  /// Gaussian of this colour distance, 0..255 per channel, as surface_colour_sigma). 0: by angle
+  /// alone.
+  double dense_vote_colour_sigma = 40.0;
+  /// ... with a say that grows with the pixel's distance to its nearest return: none within half
+  /// this many image pixels, in full at this many. Next to returns the geometry decides (a
+  /// return's pixel may lie a few pixels off its surface: the LiDAR's parallax, the calibration).
+  double dense_vote_colour_px = 16.0;
   /// Dense mode: leave out the returns the camera cannot see (a scanner above or beside the camera
   /// sees past near objects; hidden_returns.hpp). Needs the scan's origin. Off by default: depth
   /// scored against projected LiDAR, which keeps those returns, loses by it (README); on in
@@ -188,10 +197,14 @@ struct DepthCompletionParams {
 
   /// Throws InputError naming the first bad parameter.
   void validate() const;
-  /// Whether the model reads the camera image's pixels (image_guided; ground_gp for its sky).
+  /// Whether the model reads the camera image's pixels: image_guided; ground_gp for its sky, its
+  /// surface prior's colours, or (dense input) its occlusion vote's colours.
   bool readsImage() const {
+    const bool vote_colours =
+        ground.dense_vote_colour_sigma > 0.0 && ground.input != GroundPriorParams::Input::kSparse;
     return model == DepthModel::kImageGuided ||
-           (model == DepthModel::kGroundGp && ground.image_sky);
+           (model == DepthModel::kGroundGp &&
+            (ground.image_sky || ground.surface_colour_sigma > 0.0 || vote_colours));
   }
 };
 

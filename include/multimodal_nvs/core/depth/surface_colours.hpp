@@ -30,6 +30,8 @@ class SurfaceColours {
 
   /// The colour of the cell that holds full-image pixel (u, v); NaN outside the image.
   CellColour at(double u, double v) const;
+  /// The colour at a sample's pixel (through the camera model of `angles`).
+  CellColour atSample(const AngularSample& sample, const PixelAngleGrid& angles) const;
   /// The colour at each sample's pixel (through the camera model of `angles`).
   std::vector<CellColour> atSamples(const std::vector<AngularSample>& samples,
                                     const PixelAngleGrid& angles) const;

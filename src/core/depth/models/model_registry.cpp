@@ -72,16 +72,16 @@ int predictGroundGpModel(const std::vector<AngularSample>& samples, const PixelA
                          double shift, ThreadPool& pool, PixelPredictions& out,
                          GroundChoice* ground, ModelScratch* scratch,
                          BackgroundTriangulation& triangulation, const cv::Mat& image) {
+  // The colours only where a return's pixel is where it was seen.
+  const cv::Mat& colours = choice.single_scan_plane ? cv::Mat() : image;
   if (choice.dense) {
     // Dense input needs no neighbour sets: the interpolating prior is the prediction.
     ModelScratch local;
     predictGroundGpDense(angles, params, choice.plane, medianDepth(samples, params, shift), pool,
-                         out, scratch != nullptr ? *scratch : local, triangulation);
+                         out, scratch != nullptr ? *scratch : local, triangulation, colours);
     if (ground) ground->hidden_returns = triangulation.hiddenCount();
     return 0;
   }
-  // The surface prior's colours only where a return's pixel is where it was seen.
-  const cv::Mat& colours = choice.single_scan_plane ? cv::Mat() : image;
   if (groundGpUsesTiles(samples, angles, params)) {
     // No neighbour sets: building them alone takes longer than the whole approximation.
     if (ground) ground->tiled_residual = true;

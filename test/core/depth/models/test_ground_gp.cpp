@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 #include "core/scene_fixtures.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
@@ -135,6 +137,14 @@ TEST(GroundGp, InvalidParametersAreRejected) {
   params.ground = {};
   params.ground.camera_height = 0.0;
   EXPECT_THROW(completer.complete({}, smallCamera(), {smallImage(), 1}, params), mm::InputError);
+  for (double bad : {-1.0, std::nan("")}) {
+    params.ground = {};
+    params.ground.dense_vote_colour_sigma = bad;
+    EXPECT_THROW(completer.complete({}, smallCamera(), {smallImage(), 1}, params), mm::InputError);
+    params.ground = {};
+    params.ground.dense_vote_colour_px = bad;
+    EXPECT_THROW(completer.complete({}, smallCamera(), {smallImage(), 1}, params), mm::InputError);
+  }
 }
 
 // --- dense-input mode ----------------------------------------------------------------------------
@@ -269,6 +279,84 @@ TEST(GroundGpDense, EdgeVotesDependOnlyOnTheFrame) {
     EXPECT_EQ(after.depth, fresh.depth) << threads << " threads";
     EXPECT_EQ(after.variance, fresh.variance) << threads << " threads";
   }
+}
+
+namespace {
+// A box at 5 m (columns [40, 120), rows above 52) in front of a wall at 20 m, seen by scan lines
+// 16 rows (~9 deg) apart, a return every 2 pixels: the box's lower edge lies between the lines at
+// rows 40 and 56. The image shows it: the box red, the wall grey.
+double boxOverWall(int u, int v) {
+  return u >= 40 && u < 120 && v < 52 ? 5.0 : 20.0;
+}
+
+cv::Mat boxOverWallImage() {
+  cv::Mat image(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar(128, 128, 128));
+  image(cv::Rect(40, 0, 80, 52)).setTo(cv::Scalar(0, 0, 200));
+  return image;
+}
+
+std::vector<Eigen::Vector3d> sparseScanLines() {
+  std::vector<Eigen::Vector3d> points;
+  for (int v = 8; v < 120; v += 16) {
+    for (int u = 0; u < 160; u += 2)
+      points.push_back(pointOnPixelRay(smallCamera(), u, v, boxOverWall(u, v)));
+  }
+  return points;
+}
+
+// Pixels of rows [v0, v1) in the box's columns (away from its sides) whose depth is off the
+// scene's by more than 1 m.
+int wrongSurfacePixels(const mm::DepthMap& map, int v0, int v1) {
+  int wrong = 0;
+  for (int v = v0; v < v1; ++v) {
+    for (int u = 50; u < 110; ++u)
+      wrong += std::abs(map.depth[std::size_t(v) * 160 + u] - boxOverWall(u, v)) > 1.0;
+  }
+  return wrong;
+}
+}  // namespace
+
+TEST(GroundGpDense, ColoursPutPixelsBetweenScanLinesOnTheSurfaceTheyLookLike) {
+  mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  params.ground.camera_height = 100.0;       // no ground in view: only the edge vote is tested
+  params.ground.dense_vote_colour_px = 4.0;  // the small camera's pixels are ~0.6 deg
+  mm::DepthCompleter completer(2);
+  const auto points = sparseScanLines();
+  const mm::DepthMap by_angle =
+      completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  const mm::DepthMap by_colour =
+      completer.complete(points, smallCamera(), {smallImage(), 1}, params, boxOverWallImage());
+  // By angle alone the pixels nearer the line at row 56 than the one at row 40 take the wall
+  // (180 of them); with the colours those whose nearest returns include the box's take the box
+  // (109 left: the colours reweigh a pixel's nearest returns, and where all of them lie on the
+  // wall they cannot bring the box back).
+  const int box_wrong_by_angle = wrongSurfacePixels(by_angle, 41, 52);
+  const int box_wrong_by_colour = wrongSurfacePixels(by_colour, 41, 52);
+  EXPECT_GT(box_wrong_by_angle, 100);
+  EXPECT_LT(box_wrong_by_colour, 0.7 * box_wrong_by_angle) << box_wrong_by_angle;
+  // The wall below the edge stays the wall.
+  EXPECT_EQ(wrongSurfacePixels(by_angle, 52, 56), 0);
+  EXPECT_EQ(wrongSurfacePixels(by_colour, 52, 56), 0);
+}
+
+TEST(GroundGpDense, ColoursChangeNothingWhereTheyCannotTellSurfacesApart) {
+  mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  params.ground.camera_height = 100.0;
+  params.ground.dense_vote_colour_px = 4.0;
+  mm::DepthCompleter completer(2);
+  const auto points = sparseScanLines();
+  const mm::DepthMap without = completer.complete(points, smallCamera(), {smallImage(), 1}, params);
+  // One colour everywhere: every return looks like every pixel.
+  const cv::Mat grey(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(90));
+  const mm::DepthMap uniform =
+      completer.complete(points, smallCamera(), {smallImage(), 1}, params, grey);
+  EXPECT_EQ(uniform.depth, without.depth);
+  // Colours off: the image is not used.
+  params.ground.dense_vote_colour_sigma = 0.0;
+  const mm::DepthMap off =
+      completer.complete(points, smallCamera(), {smallImage(), 1}, params, boxOverWallImage());
+  EXPECT_EQ(off.depth, without.depth);
+  EXPECT_EQ(off.variance, without.variance);
 }
 
 TEST(GroundGpDense, ColumnsExtendTheirTopmostReturnUpward) {

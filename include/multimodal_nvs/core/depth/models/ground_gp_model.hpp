@@ -28,11 +28,12 @@ void predictGroundGp(const std::vector<AngularSample>& samples, const PixelAngle
 /// inverse depth on the Delaunay triangulation of the samples; no residual GP (the prior already
 /// passes through every sample, so the GP's posterior mean would equal it). The samples are those
 /// of `triangulation` (the caller may have started it early; with hidden returns dropped, the
-/// visible ones). Work buffers in `scratch`.
+/// visible ones). Work buffers in `scratch`. `image` (may be empty): the camera image, for the
+/// occlusion vote's colours (ground.dense_vote_colour_sigma > 0).
 void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionParams& params,
                           const GroundPlane& plane, double median_depth, ThreadPool& pool,
                           PixelPredictions& out, ModelScratch& scratch,
-                          BackgroundTriangulation& triangulation);
+                          BackgroundTriangulation& triangulation, const cv::Mat& image = cv::Mat());
 
 /// Mean angular spacing of the samples in the camera's view, sqrt(view area / samples in view), in
 /// degrees; infinity when none is in view.
