@@ -337,6 +337,16 @@ TEST(GroundGpDense, ColoursPutPixelsBetweenScanLinesOnTheSurfaceTheyLookLike) {
   // The wall below the edge stays the wall.
   EXPECT_EQ(wrongSurfacePixels(by_angle, 52, 56), 0);
   EXPECT_EQ(wrongSurfacePixels(by_colour, 52, 56), 0);
+  // Each thread keeps its own colour caches: the same depth on any number of threads, and in a
+  // second call (a fresh image).
+  for (int threads : {1, 3}) {
+    mm::DepthCompleter other(threads);
+    other.complete(points, smallCamera(), {smallImage(), 1}, params,
+                   cv::Mat(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(7)));
+    const mm::DepthMap again =
+        other.complete(points, smallCamera(), {smallImage(), 1}, params, boxOverWallImage());
+    EXPECT_EQ(again.depth, by_colour.depth) << threads << " threads";
+  }
 }
 
 TEST(GroundGpDense, ColoursChangeNothingWhereTheyCannotTellSurfacesApart) {
