@@ -311,10 +311,11 @@ int run(int argc, char** argv) {
     const mm::io::VodFrame frame{root, number};
     FrameResult res;
     res.frame = number;
-    // image_guided and ground_gp's sky and colours read the camera image; the others only its
-    // size.
-    const cv::Mat image =
-        o.image_size.empty() || params.readsImage() ? readFrameImage(frame) : cv::Mat();
+    // image_guided and ground_gp's sky need the camera image, ground_gp's colours use it where
+    // there is one; the others only its size (with --image-size a frame may have no image).
+    const bool read_image = o.image_size.empty() || params.needsImage() ||
+                            (params.readsImage() && mm::io::fileExists(frame.image()));
+    const cv::Mat image = read_image ? readFrameImage(frame) : cv::Mat();
     mm::StrideGrid grid;
     grid.image = o.image_size.empty() ? mm::ImageSize{image.rows, image.cols}
                                       : mm::ImageSize{o.image_size[0], o.image_size[1]};

@@ -119,6 +119,18 @@ TEST(EvaluateDepthTool, DenseTruthShardsAndLidarSubsampling) {
   EXPECT_NE(r.output.find("\"mae\": 0,"), std::string::npos) << r.output;
 }
 
+TEST(EvaluateDepthTool, FramesWithoutAnImageRunTheModelsThatCanGoWithoutIt) {
+  // The scene has no camera images (--image-size): ground_gp's colours are optional, image_guided
+  // needs the image and says which file is missing.
+  writeScene(false);
+  auto r = runTool(base() + "--frames 0 --input lidar --subsample 4 --gt lidar --model ground_gp");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("\"frames\": 1"), std::string::npos) << r.output;
+  r = runTool(base() + "--frames 0 --model image_guided");
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("image_2/00000.jpg: image not found"), std::string::npos) << r.output;
+}
+
 TEST(EvaluateDepthTool, EvaluatesSavedPredictions) {
   writeScene(true);
   std::vector<float> depth(60 * 80, 12.0f), variance(60 * 80, 1.0f);

@@ -197,14 +197,19 @@ struct DepthCompletionParams {
 
   /// Throws InputError naming the first bad parameter.
   void validate() const;
-  /// Whether the model reads the camera image's pixels: image_guided; ground_gp for its sky, its
-  /// surface prior's colours, or (dense input) its occlusion vote's colours.
+  /// Whether the model cannot run as asked without the camera image's pixels: image_guided,
+  /// ground_gp's sky.
+  bool needsImage() const {
+    return model == DepthModel::kImageGuided ||
+           (model == DepthModel::kGroundGp && ground.image_sky);
+  }
+  /// Whether the model reads the camera image's pixels when it has them: needsImage(), and
+  /// ground_gp's surface prior colours and (dense input) its occlusion vote's colours.
   bool readsImage() const {
     const bool vote_colours =
         ground.dense_vote_colour_sigma > 0.0 && ground.input != GroundPriorParams::Input::kSparse;
-    return model == DepthModel::kImageGuided ||
-           (model == DepthModel::kGroundGp &&
-            (ground.image_sky || ground.surface_colour_sigma > 0.0 || vote_colours));
+    return needsImage() ||
+           (model == DepthModel::kGroundGp && (ground.surface_colour_sigma > 0.0 || vote_colours));
   }
 };
 

@@ -325,16 +325,19 @@ TEST(ImageGuided, GroundGpTakesTheImagesSkyWhenAsked) {
   p.model = mm::DepthModel::kGroundGp;
   p.threads = 2;
   ASSERT_FALSE(p.ground.image_sky);
-  EXPECT_TRUE(p.readsImage());  // the dense mode's vote may use the colours
+  EXPECT_TRUE(p.readsImage());   // the dense mode's vote may use the colours
+  EXPECT_FALSE(p.needsImage());  // ... but goes without it
   p.ground.dense_vote_colour_sigma = 0.0;
   EXPECT_FALSE(p.readsImage());
   p.ground.surface_colour_sigma = 20.0;
   EXPECT_TRUE(p.readsImage());
+  EXPECT_FALSE(p.needsImage());
   p.ground.surface_colour_sigma = 0.0;
   mm::DepthCompleter completer(2);
   const auto plain = completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, image);
   p.ground.image_sky = true;
   EXPECT_TRUE(p.readsImage());
+  EXPECT_TRUE(p.needsImage());
   const auto sky = completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, image);
   const auto no_image =
       completer.complete(twoReturns(), smallCamera(), {smallImage(), 1}, p, cv::Mat());
