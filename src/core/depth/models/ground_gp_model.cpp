@@ -342,9 +342,12 @@ class VoteColours {
     double say = 0.0;
   };
 
-  VoteColours(const cv::Mat& image, const PixelAngleGrid& angles,
+  /// `call`: the number of this call of the dense mode (its vote memories' `frame`), which tells
+  /// the threads' colour caches of this call from those of earlier ones.
+  VoteColours(unsigned long long call, const cv::Mat& image, const PixelAngleGrid& angles,
               const std::vector<AngularSample>& samples, const GroundPriorParams& g)
-      : colours_(image, angles.grid().image, g.dense_vote_colour_sigma),
+      : call_(call),
+        colours_(image, angles.grid().image, g.dense_vote_colour_sigma),
         angles_(angles),
         samples_(samples),
         // Degrees per image pixel at the image centre: the say's distances in degrees.
@@ -379,13 +382,13 @@ class VoteColours {
   /// A sample's colour, computed once per thread and call where first asked.
   const CellColour& sampleColour(int sample) const {
     struct Cache {
-      unsigned long long owner = 0;  // id_ of the VoteColours that filled it
+      unsigned long long owner = 0;  // call_ of the VoteColours that filled it
       std::vector<std::uint8_t> known;
       std::vector<CellColour> colour;
     };
     thread_local Cache cache;
-    if (cache.owner != id_) {
-      cache.owner = id_;
+    if (cache.owner != call_) {
+      cache.owner = call_;
       cache.known.assign(samples_.size(), 0);
       cache.colour.resize(samples_.size());
     }
@@ -396,13 +399,7 @@ class VoteColours {
     return cache.colour[sample];
   }
 
-  /// Tells this call's colours from an earlier call's (at the same address, with another image).
-  static unsigned long long nextId() {
-    static std::atomic<unsigned long long> ids{0};
-    return ++ids;
-  }
-
-  unsigned long long id_ = nextId();
+  unsigned long long call_;
   SurfaceColours colours_;
   const PixelAngleGrid& angles_;
   const std::vector<AngularSample>& samples_;
@@ -865,9 +862,13 @@ void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionPar
   // Occlusion edges are decided by the pixel's surface_k nearest samples (any triangle).
   const std::vector<AngularSample> usable = usableSamples(samples);
   const AngularBins bins(usable, kVoteBinDeg);
+  // Tells the rasterising threads' vote memories and colour caches of this call from those of
+  // earlier calls.
+  static std::atomic<unsigned long long> calls{0};
+  const unsigned long long frame = ++calls;
   const std::optional<VoteColours> vote_colours =
       g.dense_vote_colour_sigma > 0.0 && !image.empty()
-          ? std::optional<VoteColours>(std::in_place, image, angles, usable, g)
+          ? std::optional<VoteColours>(std::in_place, frame, image, angles, usable, g)
           : std::nullopt;
   // The nearest return's lattice for the gaps (outside the samples' hull): computed here while the
   // triangulation runs, else below only when there are gaps. A LiDAR image nearly always has them
@@ -914,9 +915,6 @@ void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionPar
   // value-initialises only new elements, so no read is of uninitialised memory.
   std::vector<float>& longest = scratch.longest_edge;
   longest.resize(n);
-  // Tells the rasterising threads' vote memories of this call from those of earlier calls.
-  static std::atomic<unsigned long long> calls{0};
-  const unsigned long long frame = ++calls;
   const int cols = angles.grid().cols();
   // A pixel of an edge triangle (the vote decides its surface).
   const auto edge_pixel = [&](const AngularTriangle& t, double l0, double l1, double l2,
