@@ -2,8 +2,10 @@
 """Tables of `make eval` and merging of `evaluate_depth --shard` outputs (numpy only).
 
   eval_tables.py tables OUT_DIR [--seconds S] [--threads N] [--split dev|validation|all]
+                  [--lidar-ground-gp-args ARGS]
       Reads OUT_DIR/raw/<suite>/*.json written by scripts/eval.sh, writes OUT_DIR/tables.md and
-      OUT_DIR/tables.json, and prints the Markdown.
+      OUT_DIR/tables.json, and prints the Markdown. ARGS: ground_gp's own arguments on LiDAR
+      input, for the captions.
   eval_tables.py common DIR [--keep]
       Reduces DIR/errors/<input>_<model>/NNNNN_errors.npy (evaluate_depth --save-errors of every
       model on the same truth) to DIR/<input>_common.json: each model's MAE and RMSE over the
@@ -26,6 +28,8 @@ import time
 
 import numpy as np
 
+# Set by tables(): how ground_gp ran on LiDAR input (eval.sh's arguments), for the captions.
+LIDAR_GROUND_GP_NOTE = ""
 RETENTION_NOTE = (
     " Retention keeps the given share of *all* grid pixels, lowest variance first, ties in "
     "row-major order: local GP pixels without a neighbour all have the prior variance a^2 = 625 "
@@ -441,8 +445,9 @@ def suite_tables(suite, raw, label, truth, notes):
                 "frame on this input. Its RMSE_log is dominated by a few tenths of a percent of "
                 "pixels where the GP posterior mean overshoots to a depth <= 0 near dense "
                 "close-range returns (clipped to 1 mm; the exact GP does the same). ground_gp "
-                "chooses its sparse or dense input mode itself (ground_input auto).%s%s" %
-                (k, gt, frames, stride, stride, RETENTION_NOTE if percent < 100 else "", notes),
+                "chooses its sparse or dense input mode itself (ground_input auto).%s%s%s" %
+                (k, gt, frames, stride, stride, LIDAR_GROUND_GP_NOTE,
+                 RETENTION_NOTE if percent < 100 else "", notes),
                 lidar, percent, lidar_failures,
                 load_common(d, "lidar") if percent == 100 else None))
     # Calibration curves of the predictive variance (all pixels): ground_gp and, for contrast, the
@@ -665,9 +670,9 @@ def synthetic_tables(raw):
              "PSNR minus the oracle's. Depth: against the exact depth at frame(s) %s (radar: all "
              "returns, stride 1; LiDAR: 1 in 4 returns as input, stride 4). On LiDAR input the "
              "local GP uses the tile approximation (--max-neighbors 64), and kernel regression on "
-             "all LiDAR returns (the novel views) a 1° radius." %
+             "all LiDAR returns (the novel views) a 1° radius.%s" %
              (first.get("frames"), first.get("scale"), retention,
-              depth_frames))
+              depth_frames, LIDAR_GROUND_GP_NOTE))
     extra_path = os.path.join(root, "scene_args.txt")
     if os.path.exists(extra_path):
         with open(extra_path) as f:
@@ -843,7 +848,17 @@ def synthetic_common_table(scenes, input_name, input_label, keys, setup):
     return table
 
 
-def tables(out_dir, seconds, threads, split="all"):
+def lidar_ground_gp_note(args):
+    """The captions' sentence on ground_gp's own arguments on 1-in-4 LiDAR input (eval.sh's)."""
+    if not args:
+        return ""
+    return (" ground_gp on LiDAR input runs with %s, as config/lidar.yaml does (the returns the "
+            "camera cannot see left out; lidar.yaml's sky only in the novel views)." % args)
+
+
+def tables(out_dir, seconds, threads, split="all", lidar_ground_gp_args=""):
+    global LIDAR_GROUND_GP_NOTE
+    LIDAR_GROUND_GP_NOTE = lidar_ground_gp_note(lidar_ground_gp_args)
     raw = os.path.join(out_dir, "raw")
     if not os.path.isdir(raw):
         fail("%s: no raw results (run scripts/eval.sh first)" % raw)
@@ -895,7 +910,7 @@ def main(argv):
         common_errors(argv[2], keep=argv[3:] == ["--keep"])
         return
     if len(argv) >= 3 and argv[1] == "tables":
-        seconds, threads, split = None, "?", "all"
+        seconds, threads, split, lidar_ground_gp_args = None, "?", "all", ""
         rest = argv[3:]
         while rest:
             if rest[0] == "--seconds" and len(rest) > 1:
@@ -904,10 +919,12 @@ def main(argv):
                 threads = rest[1]
             elif rest[0] == "--split" and len(rest) > 1:
                 split = rest[1]
+            elif rest[0] == "--lidar-ground-gp-args" and len(rest) > 1:
+                lidar_ground_gp_args = rest[1]
             else:
                 fail("unknown argument '%s'" % rest[0])
             rest = rest[2:]
-        tables(argv[2], seconds, threads, split)
+        tables(argv[2], seconds, threads, split, lidar_ground_gp_args)
         return
     sys.stderr.write(__doc__)
     sys.exit(2)
