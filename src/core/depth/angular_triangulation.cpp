@@ -154,7 +154,9 @@ bool pinholePixelBox(const PinholeIntrinsics& k, const StrideGrid& grid,
 }  // namespace
 
 std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>& all_samples,
-                                                const PixelAngleGrid& angles) {
+                                                const PixelAngleGrid& angles,
+                                                std::vector<TriangleMirrors>* mirrors) {
+  if (mirrors) mirrors->clear();
   const StrideGrid& grid = angles.grid();
   // The image's angular extent, and the samples near it.
   const AngularBox image = angles.extent();
@@ -236,15 +238,28 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
     }
     t.det = (t.az[1] - t.az[0]) * (t.el[2] - t.el[0]) - (t.az[2] - t.az[0]) * (t.el[1] - t.el[0]);
     if (!(std::abs(t.det) > 1e-12)) continue;  // degenerate (collinear) triangle
+    bool kept = false;
     if (precomputed) {
-      if (pinholePixelBox(k, grid, vertex_terms, t)) triangles.push_back(t);
-      continue;
+      kept = pinholePixelBox(k, grid, vertex_terms, t);
+    } else {
+      const double taz0 = std::min({t.az[0], t.az[1], t.az[2]});
+      const double taz1 = std::max({t.az[0], t.az[1], t.az[2]});
+      const double tel0 = std::min({t.el[0], t.el[1], t.el[2]});
+      const double tel1 = std::max({t.el[0], t.el[1], t.el[2]});
+      kept = pixelBox(k, grid, taz0, taz1, tel0, tel1, t);
     }
-    const double taz0 = std::min({t.az[0], t.az[1], t.az[2]});
-    const double taz1 = std::max({t.az[0], t.az[1], t.az[2]});
-    const double tel0 = std::min({t.el[0], t.el[1], t.el[2]});
-    const double tel1 = std::max({t.el[0], t.el[1], t.el[2]});
-    if (pixelBox(k, grid, taz0, taz1, tel0, tel1, t)) triangles.push_back(t);
+    if (!kept) continue;
+    triangles.push_back(t);
+    if (!mirrors) continue;
+    TriangleMirrors m;
+    for (int j = 0; j < 3; ++j) {
+      m.vertex[j] = AngularSample{NAN, NAN, NAN};
+      const auto neighbour = face->neighbor(j);
+      if (delaunay.is_infinite(neighbour)) continue;
+      const int index = delaunay.mirror_vertex(face, j)->info();
+      if (index != kVirtual) m.vertex[j] = samples[index];
+    }
+    mirrors->push_back(m);
   }
 
   return triangles;
@@ -253,12 +268,14 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
 BackgroundTriangulation::BackgroundTriangulation(const std::vector<AngularSample>& samples,
                                                  const PixelAngleGrid& angles, bool start,
                                                  bool visible_only, double depth_ratio,
-                                                 const Eigen::Vector3d& scan_origin)
+                                                 const Eigen::Vector3d& scan_origin,
+                                                 bool with_mirrors)
     : samples_(samples),
       angles_(angles),
       visible_only_(visible_only),
       depth_ratio_(depth_ratio),
       scan_origin_(scan_origin),
+      with_mirrors_(with_mirrors),
       visible_future_(visible_ready_.get_future().share()) {
   if (!start) return;
   try {
@@ -273,7 +290,8 @@ BackgroundTriangulation::BackgroundTriangulation(const std::vector<AngularSample
         }
       }
       visible_ready_.set_value();
-      return triangulateSamples(visible_only_ ? visible_ : samples_, angles_);
+      return triangulateSamples(visible_only_ ? visible_ : samples_, angles_,
+                                with_mirrors_ ? &mirrors_ : nullptr);
     });
   } catch (const std::system_error&) {
     // No thread to be had: samples() and get() work in the caller's thread.
@@ -292,7 +310,8 @@ const std::vector<AngularSample>& BackgroundTriangulation::samples() {
 }
 
 std::vector<AngularTriangle> BackgroundTriangulation::get() {
-  return started() ? triangles_.get() : triangulateSamples(samples(), angles_);
+  return started() ? triangles_.get()
+                   : triangulateSamples(samples(), angles_, with_mirrors_ ? &mirrors_ : nullptr);
 }
 
 }  // namespace multimodal_nvs

@@ -117,6 +117,62 @@ TEST(AngularTriangulation, InTheBackgroundOrInOrderTheSameTriangles) {
   }
 }
 
+TEST(AngularTriangulation, MirrorsAreTheVerticesAcrossEachEdge) {
+  std::vector<mm::AngularSample> samples = latticeSamples(3.0f, 10.0f);
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    samples[i].depth = 4.0f + 0.01f * float(i);  // tells the samples apart
+  const mm::PixelAngleGrid angles(kCamera, kGrid);
+  std::vector<mm::TriangleMirrors> mirrors;
+  const std::vector<mm::AngularTriangle> triangles =
+      mm::triangulateSamples(samples, angles, &mirrors);
+  ASSERT_EQ(mirrors.size(), triangles.size());
+  // Which side of the line through a and b a point lies on.
+  const auto side = [](double az_a, double el_a, double az_b, double el_b, double az, double el) {
+    return (az_b - az_a) * (el - el_a) - (el_b - el_a) * (az - az_a);
+  };
+  int across = 0, at_hull = 0;
+  for (std::size_t i = 0; i < triangles.size(); ++i) {
+    const mm::AngularTriangle& t = triangles[i];
+    for (int j = 0; j < 3; ++j) {
+      const mm::AngularSample& m = mirrors[i].vertex[j];
+      if (std::isnan(m.depth)) {
+        ++at_hull;
+        continue;
+      }
+      const int a = (j + 1) % 3, b = (j + 2) % 3;
+      // A lattice neighbour on the other side of the edge opposite vertex j, not a vertex of t.
+      const double own = side(t.az[a], t.el[a], t.az[b], t.el[b], t.az[j], t.el[j]);
+      const double other = side(t.az[a], t.el[a], t.az[b], t.el[b], m.azimuth_deg, m.elevation_deg);
+      EXPECT_LT(own * other, 0.0) << i << " " << j;
+      EXPECT_LE(std::hypot(m.azimuth_deg - t.az[a], m.elevation_deg - t.el[a]), 3.0 * 1.5);
+      bool found = false;  // one of the samples, with its own depth
+      for (const mm::AngularSample& s : samples)
+        found |= s.azimuth_deg == m.azimuth_deg && s.elevation_deg == m.elevation_deg &&
+                 s.depth == m.depth;
+      EXPECT_TRUE(found);
+      ++across;
+    }
+  }
+  EXPECT_GT(across, 2 * static_cast<int>(triangles.size()));
+  EXPECT_GT(at_hull, 0);
+  // On the triangulation's thread the same; without asking, none.
+  mm::BackgroundTriangulation background(samples, angles, true, false, 1.1, Eigen::Vector3d::Zero(),
+                                         true);
+  ASSERT_EQ(background.get().size(), triangles.size());
+  ASSERT_EQ(background.mirrors().size(), mirrors.size());
+  for (std::size_t i = 0; i < mirrors.size(); ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const mm::AngularSample &a = background.mirrors()[i].vertex[j], &b = mirrors[i].vertex[j];
+      EXPECT_TRUE((std::isnan(a.depth) && std::isnan(b.depth)) ||
+                  (a.azimuth_deg == b.azimuth_deg && a.elevation_deg == b.elevation_deg &&
+                   a.depth == b.depth));
+    }
+  }
+  mm::BackgroundTriangulation plain(samples, angles, true);
+  plain.get();
+  EXPECT_TRUE(plain.mirrors().empty());
+}
+
 TEST(AngularTriangulation, FewerThanThreeSamplesGiveNoTriangle) {
   const mm::PixelAngleGrid angles(kCamera, kGrid);
   EXPECT_TRUE(mm::triangulateSamples({{0.0f, 0.0f, 5.0f}, {1.0f, 0.0f, 5.0f}}, angles).empty());

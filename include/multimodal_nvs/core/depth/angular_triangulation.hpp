@@ -22,25 +22,38 @@ struct AngularTriangle {
   int row0, row1, col0, col1;
 };
 
+/// The vertex across each edge of a triangle: vertex[i] is the third vertex of the Delaunay
+/// triangle on the other side of the edge opposite the triangle's vertex i, depth NaN where there
+/// is none (the hull). What a triangle's own three vertices cannot tell, its neighbours can:
+/// whether its depths follow one plane (the dense mode of `ground_gp`).
+struct TriangleMirrors {
+  AngularSample vertex[3];
+};
+
 /// Delaunay triangles (CGAL, exact predicates) of the usable samples within 10 % of the image's
 /// angular extent (at least 2 deg) around it, so 360-degree LiDAR does not pay for points far
 /// outside the view. Samples with identical angles keep the nearest depth. Slivers along the convex
 /// hull (those whose circumcircle reaches a far virtual vertex), degenerate triangles and those
 /// missing the grid are dropped. Fewer than three samples: no triangle.
+/// With `mirrors`, also each returned triangle's vertices across its edges, in the triangles'
+/// order.
 std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>& samples,
-                                                const PixelAngleGrid& angles);
+                                                const PixelAngleGrid& angles,
+                                                std::vector<TriangleMirrors>* mirrors = nullptr);
 
 /// triangulateSamples() on a thread of its own, started as early as the samples exist, so that the
 /// serial triangulation (CGAL) overlaps whatever the caller does before it needs the triangles.
 /// Without a thread to be had (a process at its limit), or when not asked to start early, get()
 /// triangulates in the calling thread: the same triangles either way. With `visible_only`, what is
 /// triangulated are the samples the camera can see (dropReturnsHiddenFromCamera with `depth_ratio`
-/// and the scan's origin in the camera frame), filtered on the same thread first.
+/// and the scan's origin in the camera frame), filtered on the same thread first. With
+/// `with_mirrors`, mirrors() holds the triangles' vertices across their edges after get().
 class BackgroundTriangulation {
  public:
   BackgroundTriangulation(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                           bool start, bool visible_only = false, double depth_ratio = 1.1,
-                          const Eigen::Vector3d& scan_origin = Eigen::Vector3d::Zero());
+                          const Eigen::Vector3d& scan_origin = Eigen::Vector3d::Zero(),
+                          bool with_mirrors = false);
   /// Whether the triangulation runs on its own thread.
   bool started() const { return triangles_.valid(); }
   /// The samples triangulated: all, or the visible ones (waits for the filter, not for the
@@ -48,6 +61,8 @@ class BackgroundTriangulation {
   const std::vector<AngularSample>& samples();
   /// The triangles (waits for the thread). Call once.
   std::vector<AngularTriangle> get();
+  /// With `with_mirrors`, each triangle's vertices across its edges (after get(); empty without).
+  const std::vector<TriangleMirrors>& mirrors() const { return mirrors_; }
   /// How many samples the filter left out (after samples()); -1 without the filter.
   long long hiddenCount() const { return visible_only_ ? static_cast<long long>(hidden_) : -1; }
 
@@ -57,6 +72,8 @@ class BackgroundTriangulation {
   const bool visible_only_;
   const double depth_ratio_;
   const Eigen::Vector3d scan_origin_;
+  const bool with_mirrors_;
+  std::vector<TriangleMirrors> mirrors_;
   std::vector<AngularSample> visible_;
   std::size_t hidden_ = 0;
   bool filtered_ = false;  // visible_ holds the filter's result (calling thread only)

@@ -470,6 +470,70 @@ struct DenseVertexInfo {
   float longest_edge_deg;
 };
 
+// A triangle whose vertex depths lie more than dense_edge_ratio apart is one surface all the same
+// when it and the three triangles beside it lie on one plane: inverse depth is affine in the
+// normalised image coordinates on a plane, so the six vertices fit w = a + b x + c y, each within
+// kOnePlaneTolerance of its own w. What it catches: a facade seen from far along a street, whose
+// returns along a sparse LiDAR's scan line (16 or 32 beams, or every 4th return) lie 10-30 % apart
+// in depth; as an occlusion edge the vote gave each of its pixels one vertex's depth, a wedge of
+// error metres deep, where interpolating 1/z is exact. A step between two surfaces (a pole before
+// a facade, a car before the road) puts the vertices of both sides off any one plane; the
+// triangle's own three vertices alone always span one, hence the neighbours. 1 %: depths of one
+// plane to within a few centimetres at 5 m (a LiDAR's range noise), and no looser, since the
+// novel views lost coverage at 3 % (README, "Edges on one plane").
+constexpr double kOnePlaneTolerance = 0.01;
+// Six points on or near one line (a sliver along the top scan line, whose neighbours lie on the
+// same line) fit a plane whatever their depths: the points must spread across the image in both
+// directions, the smaller principal axis of their (x, y) at least this share of the larger.
+constexpr double kOnePlaneMinSpread = 0.2;
+
+/// Whether triangle `t` and the vertices `m` across its edges lie on one plane (see above); false
+/// at the hull (a neighbour missing).
+bool onOnePlane(const AngularTriangle& t, const TriangleMirrors& m) {
+  double x[6], y[6], w[6];
+  for (int i = 0; i < 6; ++i) {
+    const double z = i < 3 ? t.z[i] : m.vertex[i - 3].depth;
+    if (!(z > 0.0)) return false;
+    const Eigen::Vector2d ray =
+        i < 3 ? normalisedFromAngles(t.az[i], t.el[i])
+              : normalisedFromAngles(m.vertex[i - 3].azimuth_deg, m.vertex[i - 3].elevation_deg);
+    x[i] = ray.x();
+    y[i] = ray.y();
+    w[i] = 1.0 / z;
+  }
+  // The least-squares fit through the normal equations of the centred points: the mean of w, and
+  // the slopes from the 2x2 scatter of (x, y), whose eigenvalues also give the spread.
+  double mx = 0.0, my = 0.0, mw = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    mx += x[i];
+    my += y[i];
+    mw += w[i];
+  }
+  mx /= 6.0;
+  my /= 6.0;
+  mw /= 6.0;
+  double sxx = 0.0, syy = 0.0, sxy = 0.0, sxw = 0.0, syw = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    const double dx = x[i] - mx, dy = y[i] - my, dw = w[i] - mw;
+    sxx += dx * dx;
+    syy += dy * dy;
+    sxy += dx * dy;
+    sxw += dx * dw;
+    syw += dy * dw;
+  }
+  const double half_trace = 0.5 * (sxx + syy);
+  const double root = std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+  const double minor = half_trace - root, major = half_trace + root;
+  if (!(major > 0.0 && minor >= kOnePlaneMinSpread * kOnePlaneMinSpread * major)) return false;
+  const double det = sxx * syy - sxy * sxy;
+  const double b = (sxw * syy - syw * sxy) / det, c = (syw * sxx - sxw * sxy) / det;
+  for (int i = 0; i < 6; ++i) {
+    const double fitted = mw + b * (x[i] - mx) + c * (y[i] - my);
+    if (!(std::abs(fitted - w[i]) <= kOnePlaneTolerance * w[i])) return false;
+  }
+  return true;
+}
+
 /// The ground plane's depth along a triangle vertex's direction, remembered for the directions
 /// seen last (direct-mapped on the angles' bits, so a hit returns the very bits a computation
 /// would): a vertex belongs to ~6 triangles, mostly near one another in the triangulation's
@@ -882,6 +946,7 @@ void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionPar
     extension.emplace(columnExtension(usable, angles, plane, pool));
   }
   std::vector<AngularTriangle> triangles = triangulation.get();
+  const std::vector<TriangleMirrors>& mirrors = triangulation.mirrors();
   std::vector<DenseVertexInfo> info(triangles.size());
   const double ratio = 1.0 + g.dense_edge_ratio;
   const double rel2 = g.dense_relative_sigma * g.dense_relative_sigma;
@@ -906,6 +971,12 @@ void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionPar
             v.same[a][b] = (v.ground[a] && v.ground[b]) || depthsWithinRatio(t.z[a], t.z[b], ratio);
             v.edge |= !v.same[a][b];
           }
+        }
+        if (v.edge && i < static_cast<long long>(mirrors.size()) && onOnePlane(t, mirrors[i])) {
+          v.edge = false;
+          for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+              v.same[a][b] = true;
         }
       },
       1024);

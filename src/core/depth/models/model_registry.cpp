@@ -120,7 +120,8 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
       samples, angles,
       params.model == DepthModel::kGroundGp && g.input == Input::kDense && pool.size() > 1,
       params.model == DepthModel::kGroundGp && g.drop_hidden_returns && g.scan_origin_known,
-      1.0 + g.dense_edge_ratio, Eigen::Vector3d(g.scan_origin_x, g.scan_origin_y, g.scan_origin_z));
+      1.0 + g.dense_edge_ratio, Eigen::Vector3d(g.scan_origin_x, g.scan_origin_y, g.scan_origin_z),
+      params.model == DepthModel::kGroundGp);
   // Both models that stand on the ground take its plane (and ground_gp its mode) from the returns
   // when they allow it, else from the pose or the parameters.
   GroundChoice choice;

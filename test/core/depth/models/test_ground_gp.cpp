@@ -231,6 +231,30 @@ TEST(GroundGpDense, OcclusionEdgesAreNotBlended) {
   EXPECT_GT(map.variance[std::size_t(50) * 160 + 100], 1.0f);
 }
 
+TEST(GroundGpDense, AFacadeSeenFromFarAlongTheStreetIsOneSurface) {
+  // A wall 2 m to the right of the camera, parallel to its axis (z = 200 / (u - 80)), scanned every
+  // 6 pixels: along a scan line neighbouring returns lie up to 27 % apart in depth (u = 102 and
+  // 108: 9.1 and 7.1 m), far more than dense_edge_ratio, yet they and their neighbours lie on one
+  // plane, so the triangles between them interpolate 1/z instead of taking one vertex's depth (a
+  // wedge of error up to half the step).
+  const auto wall = [](double u) { return 200.0 / (u - 80.0); };
+  std::vector<Eigen::Vector3d> points;
+  for (int v = 0; v < 120; v += 6) {
+    for (int u = 84; u < 160; u += 6)
+      points.push_back(pointOnPixelRay(smallCamera(), u, v, wall(u)));
+  }
+  mm::DepthCompletionParams params = groundGpParams(mm::GroundPriorParams::Input::kDense);
+  params.ground.camera_height = 100.0;  // no ground in view: only the surfaces' logic is tested
+  const auto map = completeSmallImage(points, params);
+  double worst = 0.0;
+  for (int v = 12; v < 102; v += 5) {
+    for (int u = 97; u < 150; ++u)
+      worst = std::max(worst, std::abs(map.depth[std::size_t(v) * 160 + u] - wall(u)) / wall(u));
+  }
+  // As on the road: exact up to the angular barycentric weights.
+  EXPECT_LT(worst, 0.01);
+}
+
 TEST(GroundGpDense, TheRoadBetweenScanLinesFollowsThePlaneToTheObjectItMeets) {
   // Scan lines 12 rows (~7 deg) apart over a road 1.3 m below a level camera that ends at a wall
   // 12 m ahead (its foot at row ~71). The line at row 78 is on the road (7.2 m), the one at row 66
