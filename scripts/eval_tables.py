@@ -28,8 +28,6 @@ import time
 
 import numpy as np
 
-# Set by tables(): how ground_gp ran on LiDAR input (eval.sh's arguments), for the captions.
-LIDAR_GROUND_GP_NOTE = ""
 RETENTION_NOTE = (
     " Retention keeps the given share of *all* grid pixels, lowest variance first, ties in "
     "row-major order: local GP pixels without a neighbour all have the prior variance a^2 = 625 "
@@ -398,7 +396,7 @@ def nvs_cells(run):
             fmt_ms(run["render_ms"]) if run["render_ms"] is not None else "–"]
 
 
-def suite_tables(suite, raw, label, truth, notes):
+def suite_tables(suite, raw, label, truth, notes, lidar_note=""):
     d = os.path.join(raw, suite)
     tables = []
 
@@ -446,7 +444,7 @@ def suite_tables(suite, raw, label, truth, notes):
                 "pixels where the GP posterior mean overshoots to a depth <= 0 near dense "
                 "close-range returns (clipped to 1 mm; the exact GP does the same). ground_gp "
                 "chooses its sparse or dense input mode itself (ground_input auto).%s%s%s" %
-                (k, gt, frames, stride, stride, LIDAR_GROUND_GP_NOTE,
+                (k, gt, frames, stride, stride, lidar_note,
                  RETENTION_NOTE if percent < 100 else "", notes),
                 lidar, percent, lidar_failures,
                 load_common(d, "lidar") if percent == 100 else None))
@@ -637,7 +635,7 @@ def mean_of(values):
     return (sum(values) / len(values), len(values)) if values else (float("nan"), 0)
 
 
-def synthetic_tables(raw):
+def synthetic_tables(raw, lidar_note=""):
     root = os.path.join(raw, "synthetic")
     order = scene_order()
     names = [n for n in os.listdir(root) if os.path.exists(os.path.join(root, n, "scene.json"))]
@@ -672,7 +670,7 @@ def synthetic_tables(raw):
              "local GP uses the tile approximation (--max-neighbors 64), and kernel regression on "
              "all LiDAR returns (the novel views) a 1° radius.%s" %
              (first.get("frames"), first.get("scale"), retention,
-              depth_frames, LIDAR_GROUND_GP_NOTE))
+              depth_frames, lidar_note))
     extra_path = os.path.join(root, "scene_args.txt")
     if os.path.exists(extra_path):
         with open(extra_path) as f:
@@ -857,8 +855,7 @@ def lidar_ground_gp_note(args):
 
 
 def tables(out_dir, seconds, threads, split="all", lidar_ground_gp_args=""):
-    global LIDAR_GROUND_GP_NOTE
-    LIDAR_GROUND_GP_NOTE = lidar_ground_gp_note(lidar_ground_gp_args)
+    lidar_note = lidar_ground_gp_note(lidar_ground_gp_args)
     raw = os.path.join(out_dir, "raw")
     if not os.path.isdir(raw):
         fail("%s: no raw results (run scripts/eval.sh first)" % raw)
@@ -866,9 +863,9 @@ def tables(out_dir, seconds, threads, split="all", lidar_ground_gp_args=""):
     if os.path.isdir(os.path.join(raw, "vod")):
         all_tables += suite_tables("vod", raw, "View-of-Delft",
                                    "the LiDAR scan projected into the image (nearest return per "
-                                   "pixel)", "")
+                                   "pixel)", "", lidar_note)
     if os.path.isdir(os.path.join(raw, "synthetic")):
-        all_tables = synthetic_tables(raw) + all_tables
+        all_tables = synthetic_tables(raw, lidar_note) + all_tables
     lidar_truth = "the LiDAR scan projected into the image (nearest return per pixel)"
     for suite, label, note in (
             ("astyx", "Astyx HiRes (4D radar, VLP-16)",
@@ -879,7 +876,7 @@ def tables(out_dir, seconds, threads, split="all", lidar_ground_gp_args=""):
             ("distorted_camera", "Distorted camera (LiDAR, plumb_bob lens)",
              " The camera has lens distortion (camera_info D); see the data README.")):
         if os.path.isdir(os.path.join(raw, suite)):
-            all_tables += suite_tables(suite, raw, label, lidar_truth, note)
+            all_tables += suite_tables(suite, raw, label, lidar_truth, note, lidar_note)
     if not all_tables:
         fail("%s: no table could be built" % raw)
     when = time.strftime("%Y-%m-%d %H:%M", time.localtime())

@@ -202,6 +202,7 @@ std::vector<AngularTriangle> triangulateSamples(const std::vector<AngularSample>
 
   std::vector<AngularTriangle> triangles;
   triangles.reserve(2 * vertices.size());
+  if (mirrors) mirrors->reserve(triangles.capacity());
   const PinholeIntrinsics& k = angles.intrinsics();
   // pixelBox() clamps angles beyond 89.9 deg (and 89.9f rounds above that double); a sample
   // nearer than a degree to the clamp takes the general path.
