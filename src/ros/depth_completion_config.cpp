@@ -44,6 +44,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.ground.relative_sigma_per_deg = config.ground_relative_sigma_per_deg;
   p.ground.input = parseGroundInput(config.ground_input);
   p.ground.dense_edge_ratio = config.ground_dense_edge_ratio;
+  p.ground.dense_edge_ratio_per_deg = config.ground_dense_edge_ratio_per_deg;
   p.ground.dense_relative_sigma = config.ground_dense_relative_sigma;
   p.ground.dense_vote_colour_sigma = config.ground_dense_vote_colour_sigma;
   p.ground.dense_vote_colour_px = config.ground_dense_vote_colour_px;
@@ -112,6 +113,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.ground_relative_sigma_per_deg = p.ground.relative_sigma_per_deg;
   config.ground_input = toString(p.ground.input);
   config.ground_dense_edge_ratio = p.ground.dense_edge_ratio;
+  config.ground_dense_edge_ratio_per_deg = p.ground.dense_edge_ratio_per_deg;
   config.ground_dense_relative_sigma = p.ground.dense_relative_sigma;
   config.ground_dense_vote_colour_sigma = p.ground.dense_vote_colour_sigma;
   config.ground_dense_vote_colour_px = p.ground.dense_vote_colour_px;

@@ -20,6 +20,7 @@ DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs:
   message->ground_inlier_fraction = static_cast<float>(stats.ground_inlier_fraction);
   message->ground_scan_line_share = static_cast<float>(stats.ground_scan_line_share);
   message->ground_hidden_returns = static_cast<int>(stats.ground_hidden_returns);
+  message->ground_edge_ratio = static_cast<float>(stats.ground_edge_ratio);
   return message;
 }
 

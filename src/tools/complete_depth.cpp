@@ -278,6 +278,7 @@ double computeFrame(const Options& o, const FrameJob& job, const LoadedFrame& f,
     json["ground_inlier_fraction"] = mm::json::number(s.ground_inlier_fraction, 4);
     json["ground_scan_line_share"] = mm::json::number(s.ground_scan_line_share, 4);
     json["ground_hidden_returns"] = s.ground_hidden_returns;
+    json["ground_edge_ratio"] = mm::json::number(s.ground_edge_ratio, 4);
   }
   json["shift"] = mm::json::number(s.shift, 6);
   json["threads"] = completer.threads();

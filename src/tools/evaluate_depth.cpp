@@ -191,6 +191,7 @@ struct FrameResult {
   double ground_inlier_fraction = 0.0;     // of the ground-plane fit (what chose the mode)
   double ground_scan_line_share = -1.0;    // returns along scan lines (-1: not needed)
   long long ground_hidden_returns = -1;    // returns left out as hidden (-1: not filtered)
+  double ground_edge_ratio = -1.0;         // the dense mode's surface step (-1: another mode)
   std::vector<RetentionResult> retention;
 };
 
@@ -424,6 +425,7 @@ int run(int argc, char** argv) {
       res.ground_inlier_fraction = map.stats.ground_inlier_fraction;
       res.ground_scan_line_share = map.stats.ground_scan_line_share;
       res.ground_hidden_returns = map.stats.ground_hidden_returns;
+      res.ground_edge_ratio = map.stats.ground_edge_ratio;
       depth.swap(map.depth);
       variance.swap(map.variance);
       predicted.swap(map.valid);
@@ -516,6 +518,7 @@ int run(int argc, char** argv) {
       per_frame.back()["ground_inlier_fraction"] = mm::json::number(f.ground_inlier_fraction);
       per_frame.back()["ground_scan_line_share"] = mm::json::number(f.ground_scan_line_share);
       per_frame.back()["ground_hidden_returns"] = f.ground_hidden_returns;
+      per_frame.back()["ground_edge_ratio"] = mm::json::number(f.ground_edge_ratio, 4);
     }
     per_frame.back()["retention"] = retention;
   }

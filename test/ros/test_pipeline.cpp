@@ -321,6 +321,9 @@ TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
     EXPECT_FALSE(stats->ground_source.empty());
     if (stats->ground_mode != "dense") {
       EXPECT_EQ(stats->ground_hidden_returns, -1);
+      EXPECT_EQ(stats->ground_edge_ratio, -1.0f);
+    } else {
+      EXPECT_GE(stats->ground_edge_ratio, 0.1f);  // lidar.yaml's ratio, or more on sparse rings
     }
     EXPECT_LE(stats->ground_hidden_returns, int(stats->points_in));
   }

@@ -380,6 +380,7 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   stats.ground_inlier_fraction = 0.625;
   stats.ground_scan_line_share = 0.75;
   stats.ground_hidden_returns = 1202;
+  stats.ground_edge_ratio = 0.24;
   std_msgs::Header header;
   header.stamp = ros::Time(5.0);
   header.frame_id = "camera";
@@ -397,6 +398,7 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   EXPECT_FLOAT_EQ(message->ground_inlier_fraction, 0.625f);
   EXPECT_FLOAT_EQ(message->ground_scan_line_share, 0.75f);
   EXPECT_EQ(message->ground_hidden_returns, 1202);
+  EXPECT_FLOAT_EQ(message->ground_edge_ratio, 0.24f);
 }
 
 TEST(StatsMessage, ModelsWithoutAGroundPlaneSayNoneRan) {
@@ -405,6 +407,7 @@ TEST(StatsMessage, ModelsWithoutAGroundPlaneSayNoneRan) {
   EXPECT_EQ(message->ground_mode, "");
   EXPECT_FLOAT_EQ(message->ground_scan_line_share, -1.0f);
   EXPECT_EQ(message->ground_hidden_returns, -1);
+  EXPECT_FLOAT_EQ(message->ground_edge_ratio, -1.0f);
 }
 
 sensor_msgs::CameraInfo makeInfo() {
@@ -759,6 +762,7 @@ TEST(ConfigMapping, DefaultsAreTheCoreDefaultsExceptRetention) {
   EXPECT_EQ(settings.params.ground.drop_hidden_returns, core.ground.drop_hidden_returns);
   EXPECT_EQ(settings.params.ground.dense_vote_colour_sigma, core.ground.dense_vote_colour_sigma);
   EXPECT_EQ(settings.params.ground.dense_vote_colour_px, core.ground.dense_vote_colour_px);
+  EXPECT_EQ(settings.params.ground.dense_edge_ratio_per_deg, core.ground.dense_edge_ratio_per_deg);
   EXPECT_EQ(settings.params.retain_percent, 80.0);  // the paper's choice, not the reference's 100
 }
 
@@ -773,12 +777,13 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   config.ground_drop_hidden_returns = true;  // the default is false
   config.guided_prior_colour_sigma = 12.5;
   config.ground_surface_colour_sigma = 7.5;
-  config.guided_prior_colour_walls = false;     // the default is true
-  config.ground_surface_colour_walls = false;   // the default is true
-  config.guided_prior_colour_fill_deg = 4.5;    // the default is 10
-  config.ground_surface_colour_fill_deg = 6.5;  // the default is 0
-  config.ground_dense_vote_colour_sigma = 0.0;  // the default is 40
-  config.ground_dense_vote_colour_px = 24.0;    // the default is 16
+  config.guided_prior_colour_walls = false;      // the default is true
+  config.ground_surface_colour_walls = false;    // the default is true
+  config.guided_prior_colour_fill_deg = 4.5;     // the default is 10
+  config.ground_surface_colour_fill_deg = 6.5;   // the default is 0
+  config.ground_dense_vote_colour_sigma = 0.0;   // the default is 40
+  config.ground_dense_vote_colour_px = 24.0;     // the default is 16
+  config.ground_dense_edge_ratio_per_deg = 0.0;  // the default is 0.15
   const mm::DepthCompletionSettings settings = mm::settingsFromConfig(config);
   EXPECT_EQ(settings.params.guided.prior_colour_sigma, 12.5);
   EXPECT_EQ(settings.params.ground.surface_colour_sigma, 7.5);
@@ -788,6 +793,7 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   EXPECT_EQ(settings.params.ground.surface_colour_fill_deg, 6.5);
   EXPECT_EQ(settings.params.ground.dense_vote_colour_sigma, 0.0);
   EXPECT_EQ(settings.params.ground.dense_vote_colour_px, 24.0);
+  EXPECT_EQ(settings.params.ground.dense_edge_ratio_per_deg, 0.0);
   EXPECT_TRUE(settings.params.ground.drop_hidden_returns);
   EXPECT_FALSE(settings.params.guided.lateral_prior);
   EXPECT_FALSE(settings.params.guided.ground_gp_prior);
@@ -810,6 +816,7 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   EXPECT_EQ(back.ground_surface_colour_fill_deg, 6.5);
   EXPECT_EQ(back.ground_dense_vote_colour_sigma, 0.0);
   EXPECT_EQ(back.ground_dense_vote_colour_px, 24.0);
+  EXPECT_EQ(back.ground_dense_edge_ratio_per_deg, 0.0);
   EXPECT_EQ(mm::settingsFromConfig(back).params.shift.value, 12.5);
 
   config.model = "no_such_model";

@@ -124,6 +124,7 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
     stats.ground_inlier_fraction = ground.inlier_fraction;
     stats.ground_scan_line_share = ground.scan_line_share;
     stats.ground_hidden_returns = ground.hidden_returns;
+    stats.ground_edge_ratio = ground.edge_ratio;
   }
 
   // Valid as the reference defines it, then retention among the valid pixels. Full-image passes

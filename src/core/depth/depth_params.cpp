@@ -131,6 +131,9 @@ void DepthCompletionParams::validate() const {
     if (!(ground.dense_edge_ratio > 0.0) || !(ground.dense_relative_sigma >= 0.0)) {
       fail("ground dense_edge_ratio must be > 0 and dense_relative_sigma >= 0");
     }
+    if (!(ground.dense_edge_ratio_per_deg >= 0.0) || !(ground.dense_edge_ratio_per_deg <= 10.0)) {
+      fail("ground dense_edge_ratio_per_deg must be in [0, 10]");
+    }
     if (!(ground.dense_vote_colour_sigma >= 0.0) || !(ground.dense_vote_colour_sigma <= 1000.0) ||
         !(ground.dense_vote_colour_px >= 0.0) || !(ground.dense_vote_colour_px <= 10000.0)) {
       fail(

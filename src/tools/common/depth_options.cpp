@@ -117,6 +117,11 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "dense input: relative depth step that separates two surfaces")
       ->check(positive())
       ->group(kGround);
+  app.add_option("--dense-edge-ratio-per-deg", g.dense_edge_ratio_per_deg,
+                 "dense input: the edge ratio is at least this times the returns' mean angular "
+                 "spacing in view (degrees; sparse rings); 0: --dense-edge-ratio alone")
+      ->check(CLI::Range(0.0, 10.0))
+      ->group(kGround);
   app.add_option("--dense-relative-sigma", g.dense_relative_sigma,
                  "dense input: prior std / depth on a surface")
       ->check(positive())

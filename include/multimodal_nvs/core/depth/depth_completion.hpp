@@ -33,6 +33,8 @@ struct DepthMapStats {
   double ground_scan_line_share = -1.0;
   /// ground_gp's dense mode: returns left out as hidden from the camera (-1: not filtered).
   long long ground_hidden_returns = -1;
+  /// ground_gp's dense mode: the depth step (relative) that separated surfaces (-1: another mode).
+  double ground_edge_ratio = -1.0;
 };
 
 /// Dense depth on the stride grid, in the reference's layout: depth in metres (camera z), -1 where

@@ -65,6 +65,13 @@ struct GroundPriorParams {
   /// Dense mode: two returns belong to one surface when their depths differ by at most this
   /// fraction (or both are ground returns); otherwise the edge between them is an occlusion edge.
   double dense_edge_ratio = 0.1;
+  /// Dense mode: the edge ratio grows with the returns' mean angular spacing in view (degrees):
+  /// at least this many times it. Neighbouring returns of one oblique surface (a facade along the
+  /// street, the road) lie further apart in depth the further apart they lie in angle, so between
+  /// the rings of a 16- or 32-beam LiDAR a fixed 10 % split single surfaces into "occlusion edges".
+  /// 0.15: the fixed ratio at the 1-in-4 HDL-64 spacing (VoD, ~0.67 deg) it was chosen on;
+  /// README, "The edge ratio follows the ring spacing". 0: dense_edge_ratio alone.
+  double dense_edge_ratio_per_deg = 0.15;
   double dense_relative_sigma = 0.03;  ///< dense mode: prior std / depth inside a surface
   /// Dense mode with the camera image: in a triangle across an occlusion edge, each return's vote
   /// for the pixel's surface also counts by how much its pixel's colour resembles the pixel's (a

@@ -53,6 +53,9 @@ struct GroundChoice {
   /// Dense mode: returns left out as hidden from the camera (-1: the filter did not run; set by
   /// predictWithModel).
   long long hidden_returns = -1;
+  /// Dense mode: the relative depth step that separated surfaces (denseEdgeRatio; -1 in the other
+  /// modes; set by predictWithModel).
+  double edge_ratio = -1.0;
   /// The returns lie on one scan plane (GroundPlaneFit::single_scan_plane; false when no fit ran):
   /// the pixel a return projects to is not where it was seen, so its colour says nothing.
   bool single_scan_plane = false;

@@ -894,6 +894,14 @@ double meanSampleSpacingDeg(const std::vector<AngularSample>& samples,
   return std::sqrt(double(az1 - az0) * double(el1 - el0) / double(in_view));
 }
 
+double denseEdgeRatio(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                      const GroundPriorParams& ground) {
+  if (!(ground.dense_edge_ratio_per_deg > 0.0)) return ground.dense_edge_ratio;
+  const double spacing = meanSampleSpacingDeg(samples, angles);
+  if (!std::isfinite(spacing)) return ground.dense_edge_ratio;
+  return std::max(ground.dense_edge_ratio, ground.dense_edge_ratio_per_deg * spacing);
+}
+
 bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params) {
   using Input = GroundPriorParams::Input;

@@ -79,7 +79,10 @@ int predictGroundGpModel(const std::vector<AngularSample>& samples, const PixelA
     ModelScratch local;
     predictGroundGpDense(angles, params, choice.plane, medianDepth(samples, params, shift), pool,
                          out, scratch != nullptr ? *scratch : local, triangulation, colours);
-    if (ground) ground->hidden_returns = triangulation.hiddenCount();
+    if (ground) {
+      ground->hidden_returns = triangulation.hiddenCount();
+      ground->edge_ratio = params.ground.dense_edge_ratio;
+    }
     return 0;
   }
   if (groundGpUsesTiles(samples, angles, params)) {
@@ -101,9 +104,19 @@ int predictGroundGpModel(const std::vector<AngularSample>& samples, const PixelA
 }  // namespace
 
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                     const DepthCompletionParams& params, double shift, ThreadPool& pool,
+                     const DepthCompletionParams& requested, double shift, ThreadPool& pool,
                      PixelPredictions& out, const cv::Mat& image, GroundChoice* ground,
                      ModelScratch* scratch) {
+  // ground_gp's dense mode separates surfaces at a depth step that grows with the returns' spacing
+  // (denseEdgeRatio): decided once per scan, before the hidden-return filter below uses it too.
+  DepthCompletionParams with_edge_ratio;
+  const DepthCompletionParams* chosen = &requested;
+  if (requested.model == DepthModel::kGroundGp && requested.ground.dense_edge_ratio_per_deg > 0.0) {
+    with_edge_ratio = requested;
+    with_edge_ratio.ground.dense_edge_ratio = denseEdgeRatio(samples, angles, requested.ground);
+    chosen = &with_edge_ratio;
+  }
+  const DepthCompletionParams& params = *chosen;
   if (const BaselineModel baseline = baselineModel(params.model)) {
     baseline(samples, angles, params, pool, out);
     return 0;

@@ -40,6 +40,12 @@ void predictGroundGpDense(const PixelAngleGrid& angles, const DepthCompletionPar
 double meanSampleSpacingDeg(const std::vector<AngularSample>& samples,
                             const PixelAngleGrid& angles);
 
+/// The dense mode's edge ratio for these samples: ground.dense_edge_ratio, or
+/// ground.dense_edge_ratio_per_deg times meanSampleSpacingDeg when that is larger (none in view:
+/// dense_edge_ratio).
+double denseEdgeRatio(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                      const GroundPriorParams& ground);
+
 /// Whether `ground_gp` runs its dense-input mode: params.ground.input, or for auto whether
 /// meanSampleSpacingDeg is at most half of params.radius_deg.
 bool groundInputIsDense(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
