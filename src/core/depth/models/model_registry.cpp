@@ -108,10 +108,11 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
                      PixelPredictions& out, const cv::Mat& image, GroundChoice* ground,
                      ModelScratch* scratch) {
   // ground_gp's dense mode separates surfaces at a depth step that grows with the returns' spacing
-  // (denseEdgeRatio): decided once per scan, before the hidden-return filter below uses it too.
+  // (denseEdgeRatio, which also knows when that is switched off): decided once per scan, before the
+  // hidden-return filter below uses it too.
   DepthCompletionParams with_edge_ratio;
   const DepthCompletionParams* chosen = &requested;
-  if (requested.model == DepthModel::kGroundGp && requested.ground.dense_edge_ratio_per_deg > 0.0) {
+  if (requested.model == DepthModel::kGroundGp) {
     with_edge_ratio = requested;
     with_edge_ratio.ground.dense_edge_ratio = denseEdgeRatio(samples, angles, requested.ground);
     chosen = &with_edge_ratio;
