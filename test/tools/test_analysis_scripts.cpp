@@ -62,9 +62,10 @@ std::vector<GapRow> gapRows(const std::string& output) {
   return rows;
 }
 
-multimodal_nvs::test::ToolResult gapByRegion(const std::string& scene, const std::string& prefix) {
+multimodal_nvs::test::ToolResult gapByRegion(const std::string& scene, const std::string& prefix,
+                                             const std::string& extra = "") {
   return runCommand("scripts/novel_view_gap_by_region.py " + scene + " " + prefix + " --tools " +
-                    std::string(MMNVS_TOOL_DIR) + " --size 88 160");
+                    std::string(MMNVS_TOOL_DIR) + " --size 88 160" + extra);
 }
 
 /// "behind X" of radar_surface_offsets.py: the share of returns 20 % or more behind the surface.
@@ -113,6 +114,33 @@ TEST(NovelViewGapByRegion, TheExactDepthLosesNothingAndTheRegionsTileTheImage) {
   EXPECT_LE(too_near + too_far, above + 0.001) << gap.output;
   EXPECT_EQ(rows.back().covered_psnr, exact_rows.back().covered_psnr)
       << "the oracle row renders the exact depth whatever the model";
+}
+
+// By the model's errors (radar input): too near, too far, within 10 % and the sky tile the image,
+// and pasting the exact depth where a model is too near moves its frames towards the oracle's.
+TEST(NovelViewGapByRegion, ByErrorTheRegionsTileTheImage) {
+  const std::string scene = makeScene("gap_error_scene");
+  const auto model =
+      runTool("complete_depth", "--vod-root " + scene + " --frame 0 --sensor radar " +
+                                    "--model constant --output " + dir() + "gap_error_model");
+  ASSERT_EQ(model.exit_code, 0) << model.output;
+  const auto gap = gapByRegion(scene, dir() + "gap_error_model", " --by-error");
+  ASSERT_EQ(gap.exit_code, 0) << gap.output;
+  const std::vector<GapRow> rows = gapRows(gap.output);
+  ASSERT_EQ(rows.size(), 6u) << gap.output;
+  EXPECT_EQ(rows[1].label, "> 10 % too near");
+  EXPECT_EQ(rows[2].label, "> 10 % too far");
+  EXPECT_EQ(rows[3].label, "within 10 %");
+  EXPECT_EQ(rows[4].label, "sky");
+  const double near = rows[1].share, far = rows[2].share, within = rows[3].share;
+  EXPECT_NEAR(near + far + within + rows[4].share, 1.0, 0.002) << gap.output;
+  // One depth for the whole image (the median return's) is too near for the far part of the street
+  // and too far for the near part.
+  EXPECT_GT(near, 0.05) << gap.output;
+  EXPECT_GT(far, 0.05) << gap.output;
+  const double model_psnr = rows.front().covered_psnr, oracle_psnr = rows.back().covered_psnr;
+  ASSERT_GT(oracle_psnr, model_psnr) << gap.output;
+  EXPECT_GT(rows[1].covered_psnr, model_psnr + 1.0) << gap.output;
 }
 
 TEST(NovelViewGapByRegion, AMissingOrMisSizedDepthFailsNamingTheFile) {
