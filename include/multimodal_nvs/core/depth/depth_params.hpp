@@ -149,7 +149,8 @@ struct ImageGuidedParams {
   /// model's depth moves by a median 4e-5 of itself, 0.04 % of the pixels by more than 1 %, and its
   /// time drops by a fifth (1: ground_gp at every output pixel). Step 8 (the default since 7
   /// December) takes another 2.5 ms (7 %) off that frame for radar MAE within 0.7 % (VoD +0.6 %,
-  /// Astyx -0.5 %, nuScenes 0.0 %) and the same novel views (README, "Depth that follows the image").
+  /// Astyx -0.5 %, nuScenes 0.0 %) and the same novel views (README, "Depth that follows the
+  /// image").
   int prior_step_px = 8;
   /// With ground_gp_prior: ground_gp's ground.surface_colour_sigma for the prior (its
   /// nearest-surface prior weighs each return by how much its pixel's colour resembles the
