@@ -159,12 +159,13 @@ struct ImageGuidedParams {
   /// applied to returns on a single scan plane (a 2D radar: their pixel row is not measured).
   double prior_colour_sigma = 20.0;
   /// With ground_gp_prior: ground_gp's ground.surface_colour_walls for the prior (a return that
-  /// looks like the pixel continues as a wall along the view; dev 20.54 -> 21.26 dB, README "The
-  /// prior's colours").
+  /// looks like the pixel continues as a wall along the view; dev 20.54 -> 21.26 dB,
+  /// docs/evaluation_history.md "The prior's colours").
   bool prior_colour_walls = true;
   /// With ground_gp_prior: ground_gp's ground.surface_colour_fill_deg for the prior. Chosen on the
   /// synthetic dev scenes (covered PSNR 21.26 dB off; 21.99 at 10 degrees, 8 nodes there, 16 at
-  /// VoD's focal length); README, "Surfaces that look like none of their returns".
+  /// VoD's focal length); docs/evaluation_history.md, "Surfaces that look like none of their
+  /// returns".
   double prior_colour_fill_deg = 10.0;
   bool edges = true;              ///< false: a uniform guide (no image edges; the ablation)
   bool sky = true;                ///< detect the sky and send it to far_depth
