@@ -38,39 +38,40 @@ void groundPriorRow(const double* __restrict xs, int cols, double up_x, double u
 }
 }  // namespace
 
-std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
-                                    double far_depth, ThreadPool* pool) {
-  const StrideGrid& grid = angles.grid();
-  const int rows = grid.rows(), cols = grid.cols();
-  std::vector<float> prior(static_cast<std::size_t>(grid.size()));
-  if (angles.distorted()) {
-    parallelForOrInline(
-        pool, rows,
-        [&](long long r, int) {
-          for (int c = 0; c < cols; ++c)
-            prior[std::size_t(r) * cols + c] =
-                groundPriorDepthAt(angles, plane, int(r), c, far_depth);
-        },
-        16);
-    return prior;
+GroundPriorRows::GroundPriorRows(const PixelAngleGrid& angles, const GroundPlane& plane,
+                                 double far_depth)
+    : angles_(angles), plane_(plane), far_depth_(far_depth) {
+  if (angles.distorted()) return;
+  const PinholeIntrinsics& k = angles.intrinsics();
+  const int cols = angles.grid().cols(), stride = angles.grid().stride;
+  column_x_.resize(cols);
+  for (int c = 0; c < cols; ++c)
+    column_x_[c] = (c * stride - k.cx) / k.fx;
+}
+
+void GroundPriorRows::row(int r, float* out) const {
+  const int cols = angles_.grid().cols();
+  if (angles_.distorted()) {
+    for (int c = 0; c < cols; ++c)
+      out[c] = groundPriorDepthAt(angles_, plane_, r, c, far_depth_);
+    return;
   }
   // A pinhole camera's rays are separable (a column's x, a row's y): groundPriorDepthAt's
   // arithmetic with the ray terms hoisted and the branch as a select, so that each row vectorises
   // (as a loop of calls this full-image pass took ~3 ms of VoD's 2.35 M pixels).
-  const PinholeIntrinsics& k = angles.intrinsics();
-  const int stride = grid.stride;
-  std::vector<double> column_x(cols);
-  for (int c = 0; c < cols; ++c)
-    column_x[c] = (c * stride - k.cx) / k.fx;
-  const double up_x = plane.up.x(), up_z = plane.up.z(), height = plane.height;
+  const PinholeIntrinsics& k = angles_.intrinsics();
+  const double up_y = plane_.up.y() * ((r * angles_.grid().stride - k.cy) / k.fy);
+  groundPriorRow(column_x_.data(), cols, plane_.up.x(), up_y, plane_.up.z(), plane_.height,
+                 far_depth_, out);
+}
+
+std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
+                                    double far_depth, ThreadPool* pool) {
+  const int rows = angles.grid().rows(), cols = angles.grid().cols();
+  std::vector<float> prior(std::size_t(rows) * cols);
+  const GroundPriorRows prior_rows(angles, plane, far_depth);
   parallelForOrInline(
-      pool, rows,
-      [&](long long r, int) {
-        const double up_y = plane.up.y() * ((r * stride - k.cy) / k.fy);
-        groundPriorRow(column_x.data(), cols, up_x, up_y, up_z, height, far_depth,
-                       prior.data() + std::size_t(r) * cols);
-      },
-      16);
+      pool, rows, [&](long long r, int) { prior_rows.row(int(r), prior.data() + r * cols); }, 16);
   return prior;
 }
 

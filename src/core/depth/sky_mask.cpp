@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 namespace multimodal_nvs {
 namespace {
@@ -30,17 +31,17 @@ inline int reflect101(int i, int length) {
   return i;
 }
 
-/// first[c] = the first row of [r0, r1) whose prior is nearer than `far`, if it is before
-/// first[c]. Branch-free so that it vectorises.
-void firstNearerRows(const float* __restrict prior, int cols, int r0, int r1, float far,
-                     int* __restrict first) {
-  for (int r = r0; r < r1; ++r) {
-    const float* __restrict row = prior + std::size_t(r) * cols;
-    for (int c = 0; c < cols; ++c) {
-      const int hit = row[c] < far ? r : kNoRow;
-      first[c] = first[c] < hit ? first[c] : hit;
-    }
+/// first[c] = r where the prior's row r is nearer than `far`, if r is before first[c]; returns
+/// whether every column has its row now. Branch-free so that it vectorises.
+bool firstNearerRow(const float* __restrict row, int cols, int r, float far,
+                    int* __restrict first) {
+  int latest = 0;
+  for (int c = 0; c < cols; ++c) {
+    const int hit = row[c] < far ? r : kNoRow;
+    first[c] = first[c] < hit ? first[c] : hit;
+    latest = latest > first[c] ? latest : first[c];
   }
+  return latest != kNoRow;
 }
 
 /// The 3x3 Sobel sums (OpenCV's kernels, before its 1/8 scale) at column c of the gray row `here`;
@@ -113,19 +114,40 @@ std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const std::vector<float>
                                   float far_depth, const std::vector<int>& top_return_row,
                                   double gradient, double brightness, double max_warmth,
                                   ThreadPool* pool) {
+  if (prior.size() != guide.total())
+    throw std::invalid_argument("skyMask: the prior is not of the guide's size");
+  const std::size_t cols = static_cast<std::size_t>(guide.cols);
+  return skyMask(
+      guide,
+      [&](int r, float* out) { std::copy_n(prior.data() + std::size_t(r) * cols, cols, out); },
+      far_depth, top_return_row, gradient, brightness, max_warmth, pool);
+}
+
+std::vector<std::uint8_t> skyMask(const cv::Mat& guide, const PriorRowFunction& prior_row,
+                                  float far_depth, const std::vector<int>& top_return_row,
+                                  double gradient, double brightness, double max_warmth,
+                                  ThreadPool* pool) {
   const int rows = guide.rows, cols = guide.cols;
   std::vector<std::uint8_t> sky(std::size_t(rows) * cols, 0);
   if (rows == 0 || cols == 0) return sky;
   // A column's sky ends at its top return and at its first pixel with a nearer prior (the ground):
-  // each band of rows finds its first such row per column, the earliest band's wins.
+  // each band of rows finds its first such row per column, the earliest band's wins. A band stops
+  // at its first row where every column has one (below the horizon, its first row): the prior is
+  // computed for the rows above the ground, not for the whole image.
   const int scan_rows =
       std::min(rows, *std::max_element(top_return_row.begin(), top_return_row.end()));
   const int bands = (scan_rows + kBandRows - 1) / kBandRows;
   std::vector<int> band_first(std::size_t(bands) * cols, kNoRow);
-  parallelForOrInline(pool, bands, [&](long long band, int) {
-    const int r0 = static_cast<int>(band) * kBandRows;
-    firstNearerRows(prior.data(), cols, r0, std::min(scan_rows, r0 + kBandRows), far_depth,
-                    band_first.data() + std::size_t(band) * cols);
+  std::vector<std::vector<float>> row_scratch(pool != nullptr ? pool->size() : 1,
+                                              std::vector<float>(cols));
+  parallelForOrInline(pool, bands, [&](long long band, int worker) {
+    const int r0 = static_cast<int>(band) * kBandRows, r1 = std::min(scan_rows, r0 + kBandRows);
+    float* row = row_scratch[worker].data();
+    int* first = band_first.data() + std::size_t(band) * cols;
+    for (int r = r0; r < r1; ++r) {
+      prior_row(r, row);
+      if (firstNearerRow(row, cols, r, far_depth, first)) break;
+    }
   });
   std::vector<int> column_end(cols);
   for (int c = 0; c < cols; ++c) {

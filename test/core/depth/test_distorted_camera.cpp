@@ -128,6 +128,11 @@ TEST(DistortedCamera, PixelRaysProjectBackToTheirPixels) {
   const std::vector<float> prior = mm::groundPriorDepth(angles, plane, 1000.0);
   const int r = grid.rows() - 1, c = 3;
   EXPECT_NEAR(prior[std::size_t(r) * grid.cols() + c], 1.5 / angles.normalisedRay(r, c).y(), 1e-3);
+  // Row by row, from the grid's ray table as well: the same values.
+  const mm::GroundPriorRows prior_rows(angles, plane, 1000.0);
+  std::vector<float> row(grid.cols());
+  prior_rows.row(r, row.data());
+  EXPECT_TRUE(std::equal(row.begin(), row.end(), prior.begin() + std::size_t(r) * grid.cols()));
 }
 
 TEST(DistortedCamera, BackProjectionUndistortsKeptPixels) {

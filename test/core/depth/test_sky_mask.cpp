@@ -118,3 +118,33 @@ TEST(SkyMask, DecidesEveryPixelAsThePlainSobelAndColumnWalk) {
   EXPECT_EQ(compared, 10 * 3 * 6 * 4 * 3);
   EXPECT_GT(sky_pixels, 10000);
 }
+
+// The prior is asked for row by row, and only above the ground: a band of rows stops at its first
+// row where every column has met a nearer prior (a caller need not compute the whole image of it).
+// The mask is the same as with the prior as a plane.
+TEST(SkyMask, ReadsThePriorOnlyDownToTheGround) {
+  const int rows = 200, cols = 64, ground_row = 20;
+  const cv::Mat guide(rows, cols, CV_8UC3, cv::Scalar(230, 220, 210));
+  std::vector<float> prior(std::size_t(rows) * cols, 100.0f);
+  for (int r = ground_row; r < rows; ++r)
+    std::fill_n(prior.begin() + std::size_t(r) * cols, cols, 10.0f + 0.1f * r);
+  const std::vector<int> no_return(cols, rows);
+  std::vector<int> calls(rows, 0);
+  const auto sky = mm::skyMask(
+      guide,
+      [&](int r, float* out) {
+        ++calls[r];
+        std::copy_n(prior.begin() + std::size_t(r) * cols, cols, out);
+      },
+      100.0f, no_return, 12.0, 120.0, 10.0);
+  EXPECT_EQ(sky, mm::skyMask(guide, prior, 100.0f, no_return, 12.0, 120.0, 10.0));
+  for (int r = 0; r < rows; ++r)
+    EXPECT_EQ(sky[std::size_t(r) * cols], r < ground_row ? 1 : 0) << r;
+  // Rows 0..20 of the first band of 32, then the first row of each band below it.
+  int asked = 0;
+  for (int r = 0; r < rows; ++r) {
+    EXPECT_LE(calls[r], 1) << r;
+    asked += calls[r];
+  }
+  EXPECT_EQ(asked, (ground_row + 1) + (rows - 1) / 32);
+}

@@ -10,6 +10,7 @@
 #include "multimodal_nvs/core/common/stride_grid.hpp"
 #include "multimodal_nvs/core/common/thread_pool.hpp"
 #include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/models/model_scratch.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 

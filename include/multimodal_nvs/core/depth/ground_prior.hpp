@@ -37,6 +37,22 @@ Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg);
 /// (also above the horizon, where there is no ground). Rows on `pool` when given.
 std::vector<float> groundPriorDepth(const PixelAngleGrid& angles, const GroundPlane& plane,
                                     double far_depth, ThreadPool* pool = nullptr);
+
+/// groundPriorDepth a row at a time, the same values: for a pass that consumes the prior row by
+/// row and need not hold (write, then read back) the full-size plane. Holds a reference to
+/// `angles`.
+class GroundPriorRows {
+ public:
+  GroundPriorRows(const PixelAngleGrid& angles, const GroundPlane& plane, double far_depth);
+  /// Row `r`'s prior (the grid's cols() floats) into `out`.
+  void row(int r, float* out) const;
+
+ private:
+  const PixelAngleGrid& angles_;
+  GroundPlane plane_;
+  double far_depth_;
+  std::vector<double> column_x_;  // a pinhole camera's normalised x per column
+};
 /// groundPriorDepth of one grid pixel (row r, column c), the same arithmetic: for passes that need
 /// the ground at some pixels only. Inline: such passes call it for a million pixels.
 inline float groundPriorDepthAt(const PixelAngleGrid& angles, const GroundPlane& plane, int r,

@@ -14,11 +14,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <memory>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/global_smoother.hpp"
 #include "multimodal_nvs/core/common/mask_scan.hpp"
+#include "multimodal_nvs/core/common/per_worker.hpp"
 #include "multimodal_nvs/core/common/vectorisable_math.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/nearest_model.hpp"
@@ -98,27 +102,31 @@ void forEachReturnPixel(const std::vector<AngularSample>& samples, const PixelAn
   }
 }
 
-/// The nearest return per grid pixel (+inf where none) and, per column, the top row of a return.
-struct ReturnRaster {
-  std::vector<float> depth;
+/// The nearest return per grid pixel where one fell, and per column the top row of a return. A
+/// list, not a full-size raster: radar puts a few hundred returns into VoD's 2.35 M pixels.
+struct ReturnPixels {
+  std::vector<std::pair<std::size_t, float>> nearest;  // (pixel index, depth), each pixel once
   std::vector<int> top_row;
 };
 
-ReturnRaster rasterReturns(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                           int splat_radius) {
+ReturnPixels returnPixels(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+                          int splat_radius) {
   const int rows = angles.grid().rows(), cols = angles.grid().cols();
-  ReturnRaster raster;
-  raster.depth.assign(std::size_t(rows) * cols, INFINITY);
-  raster.top_row.assign(cols, rows);
+  ReturnPixels pixels;
+  pixels.top_row.assign(cols, rows);
   forEachReturnPixel(samples, angles, splat_radius, [&](int r, int c, float depth) {
-    float& d = raster.depth[std::size_t(r) * cols + c];
-    d = std::min(d, depth);
-    raster.top_row[c] = std::min(raster.top_row[c], r);
+    pixels.nearest.emplace_back(std::size_t(r) * cols + c, depth);
+    pixels.top_row[c] = std::min(pixels.top_row[c], r);
   });
-  return raster;
+  // By pixel, the nearest first; then each pixel's first entry alone.
+  std::sort(pixels.nearest.begin(), pixels.nearest.end());
+  pixels.nearest.erase(std::unique(pixels.nearest.begin(), pixels.nearest.end(),
+                                   [](const auto& a, const auto& b) { return a.first == b.first; }),
+                       pixels.nearest.end());
+  return pixels;
 }
 
-/// rasterReturns' top_row alone (the sky test needs no depth raster).
+/// returnPixels' top_row alone (the sky test needs no return depths).
 std::vector<int> topReturnRows(const std::vector<AngularSample>& samples,
                                const PixelAngleGrid& angles, int splat_radius) {
   std::vector<int> top_row(angles.grid().cols(), angles.grid().rows());
@@ -129,10 +137,10 @@ std::vector<int> topReturnRows(const std::vector<AngularSample>& samples,
 
 /// skyMask with the model's sky parameters: the one place that says which parameters make the test
 /// (image_guided's own sky and ground_gp's, imageSkyMask).
-std::vector<std::uint8_t> skyMaskOf(const cv::Mat& guide, const std::vector<float>& prior,
+std::vector<std::uint8_t> skyMaskOf(const cv::Mat& guide, const PriorRowFunction& prior_row,
                                     const std::vector<int>& top_return_row,
                                     const ImageGuidedParams& g, ThreadPool& pool) {
-  return skyMask(guide, prior, static_cast<float>(g.far_depth), top_return_row, g.sky_gradient,
+  return skyMask(guide, prior_row, static_cast<float>(g.far_depth), top_return_row, g.sky_gradient,
                  g.sky_brightness, g.sky_max_warmth, &pool);
 }
 
@@ -211,33 +219,76 @@ void smoothSums(const cv::Mat& guide, const ImageGuidedParams& g, double lambda,
     cv::resize(coarse_sums[k], sums[k], sums[k].size(), 0, 0, cv::INTER_LINEAR);
 }
 
-/// prior[c] = min(model[c], far) wherever the model's depth is positive and finite. A function of
-/// its own with restrict pointers so that it vectorises (in the row lambda it stayed scalar).
-void takeOverModelPrior(const float* __restrict model, float far, int cols,
-                        float* __restrict prior) {
+/// prior[c] = min(model[c], far) wherever the model's depth is positive and finite, -1 elsewhere;
+/// returns how many pixels it left to the own prior. A function of its own with restrict pointers
+/// so that it vectorises (in the row lambda it stayed scalar).
+int takeOverModelPrior(const float* __restrict model, float far, int cols,
+                       float* __restrict prior) {
+  int unusable = 0;
   for (int c = 0; c < cols; ++c) {
     const float d = model[c];
     const bool usable = d > 0.0f && isFiniteVectorisable(d);
-    prior[c] = usable ? minOf(d, far) : prior[c];
+    prior[c] = usable ? minOf(d, far) : -1.0f;
+    unusable += !usable;
+  }
+  return unusable;
+}
+
+/// One row of the prior's evidence sums (w, w x, w x^2; x = 1 / depth): prior_weight at every
+/// pixel. The returns are added afterwards (addReturnEvidence).
+void priorEvidenceRow(const float* __restrict prior, float far, float prior_weight, int cols,
+                      float* __restrict sum_w, float* __restrict sum_wx,
+                      float* __restrict sum_wxx) {
+  for (int c = 0; c < cols; ++c) {
+    const float xp = 1.0f / std::min(prior[c], far);
+    sum_w[c] = prior_weight;
+    sum_wx[c] = prior_weight * xp;
+    sum_wxx[c] = prior_weight * xp * xp;
   }
 }
 
-/// One row of the evidence sums (w, w x, w x^2; x = 1 / depth): the prior's evidence at every
-/// pixel, a return's (weight 1) added where one fell. Branch-free so that it vectorises; the same
-/// arithmetic as adding under an `if`.
-void evidenceRow(const float* __restrict prior, const float* __restrict return_depth, float far,
-                 float prior_weight, int cols, float* __restrict sum_w, float* __restrict sum_wx,
-                 float* __restrict sum_wxx) {
-  for (int c = 0; c < cols; ++c) {
-    const float xp = 1.0f / std::min(prior[c], far);
-    const float w = prior_weight, wx = prior_weight * xp, wxx = prior_weight * xp * xp;
-    const bool has_return = isFiniteVectorisable(return_depth[c]);
-    const float xr = 1.0f / return_depth[c];
-    sum_w[c] = has_return ? w + 1.0f : w;
-    sum_wx[c] = has_return ? wx + xr : wx;
-    sum_wxx[c] = has_return ? wxx + xr * xr : wxx;
+/// A return's evidence (weight 1) added to the prior's at its pixel.
+void addReturnEvidence(const ReturnPixels& returns, std::vector<cv::Mat>& sums) {
+  float *sum_w = sums[0].ptr<float>(0), *sum_wx = sums[1].ptr<float>(0),
+        *sum_wxx = sums[2].ptr<float>(0);
+  for (const auto& [i, depth] : returns.nearest) {
+    const float x = 1.0f / depth;
+    sum_w[i] = sum_w[i] + 1.0f;
+    sum_wx[i] = sum_wx[i] + x;
+    sum_wxx[i] = sum_wxx[i] + x * x;
   }
 }
+
+/// The model's own prior before the surfaces: the ground plane's (guided.ground_prior) or the
+/// returns' median depth everywhere, a row at a time or as a plane.
+class OwnPrior {
+ public:
+  OwnPrior(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
+           const GroundPlane& plane, const ImageGuidedParams& g)
+      : angles_(angles),
+        ground_(g.ground_prior ? std::make_unique<GroundPriorRows>(angles, plane, g.far_depth)
+                               : nullptr),
+        median_(g.ground_prior ? 0.0f : medianDepth(samples)) {}
+  void row(int r, float* out) const {
+    if (ground_) {
+      ground_->row(r, out);
+    } else {
+      std::fill(out, out + angles_.grid().cols(), median_);
+    }
+  }
+  std::vector<float> plane(ThreadPool& pool) const {
+    const int rows = angles_.grid().rows(), cols = angles_.grid().cols();
+    std::vector<float> out(std::size_t(rows) * cols);
+    pool.parallelFor(
+        rows, [&](long long r, int) { row(int(r), out.data() + r * cols); }, 16);
+    return out;
+  }
+
+ private:
+  const PixelAngleGrid& angles_;
+  std::unique_ptr<GroundPriorRows> ground_;
+  float median_;
+};
 
 struct DepthFromEvidence {
   float far;
@@ -301,9 +352,10 @@ std::vector<std::uint8_t> imageSkyMask(const std::vector<AngularSample>& samples
                                        const PixelAngleGrid& angles, const ImageGuidedParams& g,
                                        const GroundPlane& plane, const cv::Mat& image,
                                        ThreadPool& pool) {
-  return skyMaskOf(guideOnGrid(image, angles.grid()),
-                   groundPriorDepth(angles, plane, g.far_depth, &pool),
-                   topReturnRows(samples, angles, g.splat_radius_px), g, pool);
+  const GroundPriorRows ground(angles, plane, g.far_depth);
+  return skyMaskOf(
+      guideOnGrid(image, angles.grid()), [&](int r, float* out) { ground.row(r, out); },
+      topReturnRows(samples, angles, g.splat_radius_px), g, pool);
 }
 
 void applySkyMask(const std::vector<std::uint8_t>& sky, const ImageGuidedParams& g,
@@ -316,29 +368,38 @@ void applySkyMask(const std::vector<std::uint8_t>& sky, const ImageGuidedParams&
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, const GroundPlane& plane,
                         const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
-                        const PixelPredictions* model_prior) {
+                        const PredictionRows* model_prior) {
   const ImageGuidedParams& g = params.guided;
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
   const std::size_t n = std::size_t(rows) * cols;
+  if (model_prior != nullptr && (model_prior->rows() != rows || model_prior->cols() != cols))
+    throw InputError("image_guided: the model prior has the wrong size");
   const cv::Mat guide = guideOnGrid(image, grid);
   const float far = static_cast<float>(g.far_depth);
-
-  std::vector<float> prior = g.ground_prior ? groundPriorDepth(angles, plane, g.far_depth, &pool)
-                                            : std::vector<float>(n, medianDepth(samples));
-  const ReturnRaster returns = rasterReturns(samples, angles, g.splat_radius_px);
+  const OwnPrior own_prior(samples, angles, plane, g);
+  const ReturnPixels returns = returnPixels(samples, angles, g.splat_radius_px);
+  // Another model's prediction (ground_gp's) as the prior already holds the ground, the nearest
+  // surfaces and its own fit to the returns; the smoother adds the image's edges. It is read row by
+  // row in the evidence pass, and the own prior is needed only where that model has no depth and
+  // for the sky (above the ground): a row at a time, no plane of it.
+  std::vector<float> prior;
+  if (model_prior == nullptr) prior = own_prior.plane(pool);
   std::vector<std::uint8_t> sky;
-  if (g.sky) sky = skyMaskOf(guide, prior, returns.top_row, g, pool);
-
-  if (model_prior != nullptr) {
-    // Another model's prediction (ground_gp's) is the prior: it already holds the ground, the
-    // nearest surfaces and its own fit to the returns; the smoother adds the image's edges.
-    if (model_prior->mean.size() != n || model_prior->variance.size() != n)
-      throw InputError("image_guided: the model prior has the wrong size");
-    // Taken over row by row in the evidence pass below, on rows in cache.
-  } else if (g.surface_prior) {
-    applySurfacePrior(samples, angles, g, far, sky, pool, prior);
+  if (g.sky) {
+    sky = skyMaskOf(
+        guide,
+        [&](int r, float* out) {
+          if (prior.empty()) {
+            own_prior.row(r, out);
+          } else {
+            std::copy_n(prior.data() + std::size_t(r) * cols, cols, out);
+          }
+        },
+        returns.top_row, g, pool);
   }
+  if (model_prior == nullptr && g.surface_prior)
+    applySurfacePrior(samples, angles, g, far, sky, pool, prior);
   // Evidence sums per pixel, one plane each: weight, weight * x, weight * x^2 with x = 1 / depth.
   std::vector<cv::Mat> sums(3);
   for (cv::Mat& plane : sums)
@@ -350,29 +411,38 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   // prior (radar, 100 % kept, MAE m: Astyx 5.02 at stride 1, 6.72 at stride 2; now 5.02 at both).
   const double grid_pixel_area = double(grid.stride) * grid.stride;
   const float prior_weight = static_cast<float>(g.prior_weight * grid_pixel_area);
-  std::vector<std::vector<float>> sky_priors(
-      model_prior != nullptr && !sky.empty() ? pool.size() : 0, std::vector<float>(cols));
+  // Per worker: the own prior's row, the model's row and the prior taken over from it.
+  PerWorker<std::vector<float>> row_scratch(model_prior != nullptr ? pool.size() : 0,
+                                            std::vector<float>(3 * std::size_t(cols)));
   pool.parallelFor(
       rows,
       [&](long long row, int worker) {
         const int r = static_cast<int>(row);
+        const std::size_t begin = std::size_t(r) * cols;
+        const float* prior_row = prior.data() + begin;
         if (model_prior != nullptr) {
-          // The sky keeps its own prior (the far clamp) as its evidence, so that it does not pull
-          // its edge nearer: its pixels are put back after the (vectorised) take-over.
-          const std::size_t begin = std::size_t(r) * cols;
-          float* prior_row = prior.data() + begin;
+          float* own = row_scratch[worker].data();
+          float* taken = own + cols;
+          const int unusable =
+              takeOverModelPrior(model_prior->mean(r, taken + cols), far, cols, taken);
+          // The own prior where the model has no depth, and at the sky: it keeps its own prior
+          // (the far clamp) as its evidence, so that it does not pull its edge nearer. Most rows
+          // have neither: the own prior's row is computed only for those that do.
           const std::uint8_t* sky_row = sky.empty() ? nullptr : sky.data() + begin;
-          float* kept = sky_row != nullptr ? sky_priors[worker].data() : nullptr;
-          if (kept != nullptr) std::copy(prior_row, prior_row + cols, kept);
-          takeOverModelPrior(model_prior->mean.data() + begin, far, cols, prior_row);
-          if (kept != nullptr)
-            forEachSetByte(sky_row, cols, [&](int c) { prior_row[c] = kept[c]; });
+          const bool has_sky = sky_row != nullptr && std::memchr(sky_row, 1, cols) != nullptr;
+          if (unusable > 0 || has_sky) {
+            own_prior.row(r, own);
+            for (int c = 0; c < cols; ++c)
+              taken[c] = taken[c] < 0.0f ? own[c] : taken[c];
+            if (has_sky) forEachSetByte(sky_row, cols, [&](int c) { taken[c] = own[c]; });
+          }
+          prior_row = taken;
         }
-        evidenceRow(prior.data() + std::size_t(r) * cols,
-                    returns.depth.data() + std::size_t(r) * cols, far, prior_weight, cols,
-                    sums[0].ptr<float>(r), sums[1].ptr<float>(r), sums[2].ptr<float>(r));
+        priorEvidenceRow(prior_row, far, prior_weight, cols, sums[0].ptr<float>(r),
+                         sums[1].ptr<float>(r), sums[2].ptr<float>(r));
       },
       16);
+  addReturnEvidence(returns, sums);
   const cv::Mat edge_guide = g.edges ? guide : cv::Mat(rows, cols, CV_8UC3, cv::Scalar::all(128));
   smoothSums(edge_guide, g, g.lambda / grid_pixel_area, pool, sums);
 
@@ -382,7 +452,7 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
                                    static_cast<float>(g.relative_sigma)};
   pool.parallelFor(
       rows,
-      [&](long long row, int) {
+      [&](long long row, int worker) {
         const int r = static_cast<int>(row);
         const std::size_t i = std::size_t(r) * cols;
         const std::uint8_t* sky_row = sky.empty() ? nullptr : sky.data() + i;
@@ -390,8 +460,8 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
                     *sum_wxx = sums[2].ptr<float>(r);
         if (model_prior != nullptr) {
           depthFromEvidenceRow<true>(to_depth, sum_w, sum_wx, sum_wxx,
-                                     model_prior->variance.data() + i, cols, out.mean.data() + i,
-                                     out.variance.data() + i);
+                                     model_prior->variance(r, row_scratch[worker].data()), cols,
+                                     out.mean.data() + i, out.variance.data() + i);
         } else {
           depthFromEvidenceRow<false>(to_depth, sum_w, sum_wx, sum_wxx, nullptr, cols,
                                       out.mean.data() + i, out.variance.data() + i);

@@ -175,25 +175,28 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     PixelPredictions own_prior;
     PixelPredictions& prior = scratch != nullptr ? scratch->model_prior : own_prior;
     // The prior is computed on a coarser grid when prior_step_px asks for it (only with the
-    // completer's scratch, which keeps that grid's angles between frames).
+    // completer's scratch, which keeps that grid's angles between frames) and interpolated as
+    // image_guided reads it.
     const StrideGrid& grid = angles.grid();
     const int factor =
         scratch != nullptr ? std::max(1, params.guided.prior_step_px / grid.stride) : 1;
-    int sets = 0;
     if (factor > 1) {
       const StrideGrid coarse{grid.image, grid.stride * factor};
       if (!scratch->prior_angles || !scratch->prior_angles->matches(angles.intrinsics(), coarse)) {
         scratch->prior_angles = std::make_unique<PixelAngleGrid>(angles.intrinsics(), coarse);
       }
-      sets = predictGroundGpModel(samples, *scratch->prior_angles, ground_gp, choice, shift, pool,
-                                  scratch->coarse_prior, ground, scratch, triangulation, image);
-      upsamplePredictions(scratch->coarse_prior, coarse, grid, factor, pool,
-                          scratch->prior_upsampling, prior);
-    } else {
-      sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior, ground,
-                                  scratch, triangulation, image);
+      const int sets =
+          predictGroundGpModel(samples, *scratch->prior_angles, ground_gp, choice, shift, pool,
+                               scratch->coarse_prior, ground, scratch, triangulation, image);
+      scratch->upsampled_prior.prepare(scratch->coarse_prior, coarse, grid, factor, pool);
+      const PredictionRows prior_rows(scratch->upsampled_prior);
+      predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior_rows);
+      return sets;
     }
-    predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior);
+    const int sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior,
+                                          ground, scratch, triangulation, image);
+    const PredictionRows prior_rows(prior, grid.rows(), grid.cols());
+    predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior_rows);
     return sets;
   }
   if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {

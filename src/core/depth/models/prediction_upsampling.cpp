@@ -42,13 +42,13 @@ Between between(int i, int factor, int coarse_count) {
 
 }  // namespace
 
-void upsamplePredictions(const PixelPredictions& coarse, const StrideGrid& coarse_grid,
-                         const StrideGrid& grid, int factor, ThreadPool& pool,
-                         std::vector<float>& scratch, PixelPredictions& out) {
-  const int rows = grid.rows(), cols = grid.cols();
-  const int coarse_rows = coarse_grid.rows(), coarse_cols = coarse_grid.cols();
-  out.mean.resize(std::size_t(rows) * cols);
-  out.variance.resize(out.mean.size());
+void UpsampledPredictions::prepare(const PixelPredictions& coarse, const StrideGrid& coarse_grid,
+                                   const StrideGrid& grid, int factor, ThreadPool& pool) {
+  rows_ = grid.rows();
+  cols_ = grid.cols();
+  coarse_rows_ = coarse_grid.rows();
+  factor_ = factor;
+  const int cols = cols_, coarse_cols = coarse_grid.cols();
   std::vector<int> lo(cols), hi(cols);
   std::vector<float> t(cols);
   for (int c = 0; c < cols; ++c) {
@@ -57,37 +57,70 @@ void upsamplePredictions(const PixelPredictions& coarse, const StrideGrid& coars
     hi[c] = b.hi;
     t[c] = b.t;
   }
-  // Each coarse row spread over the output columns once (inverse depth and variance), then each
-  // output row blended from two of those: the index gathers run on a factor fewer rows.
-  const std::size_t wide = std::size_t(coarse_rows) * cols;
-  scratch.resize(2 * wide);
-  float* const wide_inverse = scratch.data();
-  float* const wide_variance = wide_inverse + wide;
+  const std::size_t wide = std::size_t(coarse_rows_) * cols;
+  wide_inverse_.resize(wide);
+  wide_variance_.resize(wide);
   std::vector<std::vector<float>> inverse_rows(pool.size(), std::vector<float>(coarse_cols));
   pool.parallelFor(
-      coarse_rows,
+      coarse_rows_,
       [&](long long r, int worker) {
         const std::size_t in = std::size_t(r) * coarse_cols, at = std::size_t(r) * cols;
         float* inverse = inverse_rows[worker].data();
         reciprocals(coarse.mean.data() + in, coarse_cols, inverse);
-        expandRow(inverse, lo.data(), hi.data(), t.data(), cols, wide_inverse + at);
+        expandRow(inverse, lo.data(), hi.data(), t.data(), cols, wide_inverse_.data() + at);
         expandRow(coarse.variance.data() + in, lo.data(), hi.data(), t.data(), cols,
-                  wide_variance + at);
+                  wide_variance_.data() + at);
       },
       4);
+}
+
+void UpsampledPredictions::meanRow(int row, float* out) const {
+  const Between b = between(row, factor_, coarse_rows_);
+  // Inverse depth: affine in the image along a plane (the road).
+  lerpRows<true>(wide_inverse_.data() + std::size_t(b.lo) * cols_,
+                 wide_inverse_.data() + std::size_t(b.hi) * cols_, b.t, cols_, out);
+}
+
+void UpsampledPredictions::varianceRow(int row, float* out) const {
+  const Between b = between(row, factor_, coarse_rows_);
+  lerpRows<false>(wide_variance_.data() + std::size_t(b.lo) * cols_,
+                  wide_variance_.data() + std::size_t(b.hi) * cols_, b.t, cols_, out);
+}
+
+void upsamplePredictions(const PixelPredictions& coarse, const StrideGrid& coarse_grid,
+                         const StrideGrid& grid, int factor, ThreadPool& pool,
+                         PixelPredictions& out) {
+  UpsampledPredictions upsampled;
+  upsampled.prepare(coarse, coarse_grid, grid, factor, pool);
+  const int cols = upsampled.cols();
+  out.mean.resize(std::size_t(upsampled.rows()) * cols);
+  out.variance.resize(out.mean.size());
   pool.parallelFor(
-      rows,
+      upsampled.rows(),
       [&](long long row, int) {
-        const Between b = between(static_cast<int>(row), factor, coarse_rows);
         const std::size_t at = std::size_t(row) * cols;
-        // Inverse depth: affine in the image along a plane (the road).
-        lerpRows<true>(wide_inverse + std::size_t(b.lo) * cols,
-                       wide_inverse + std::size_t(b.hi) * cols, b.t, cols, out.mean.data() + at);
-        lerpRows<false>(wide_variance + std::size_t(b.lo) * cols,
-                        wide_variance + std::size_t(b.hi) * cols, b.t, cols,
-                        out.variance.data() + at);
+        upsampled.meanRow(static_cast<int>(row), out.mean.data() + at);
+        upsampled.varianceRow(static_cast<int>(row), out.variance.data() + at);
       },
       16);
+}
+
+PredictionRows::PredictionRows(const PixelPredictions& stored, int rows, int cols)
+    : stored_(&stored), rows_(rows), cols_(cols) {}
+
+PredictionRows::PredictionRows(const UpsampledPredictions& upsampled)
+    : upsampled_(&upsampled), rows_(upsampled.rows()), cols_(upsampled.cols()) {}
+
+const float* PredictionRows::mean(int row, float* scratch) const {
+  if (stored_ != nullptr) return stored_->mean.data() + std::size_t(row) * cols_;
+  upsampled_->meanRow(row, scratch);
+  return scratch;
+}
+
+const float* PredictionRows::variance(int row, float* scratch) const {
+  if (stored_ != nullptr) return stored_->variance.data() + std::size_t(row) * cols_;
+  upsampled_->varianceRow(row, scratch);
+  return scratch;
 }
 
 }  // namespace multimodal_nvs

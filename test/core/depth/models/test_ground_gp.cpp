@@ -52,6 +52,20 @@ TEST(GroundPrior, PixelPriorIsGroundBelowTheHorizonAndFarAbove) {
   // Rows on a pool: the same values.
   mm::ThreadPool pool(2);
   EXPECT_EQ(mm::groundPriorDepth(angles, plane, 50.0, &pool), prior);
+  // Row by row (for passes that consume it so) and pixel by pixel: the same values, bit for bit,
+  // also with a tilted plane (the columns' terms differ).
+  mm::GroundPlane tilted = plane;
+  tilted.up = Eigen::Vector3d(0.1, -0.98, 0.05).normalized();
+  const auto tilted_prior = mm::groundPriorDepth(angles, tilted, 50.0);
+  const mm::GroundPriorRows rows(angles, tilted, 50.0);
+  std::vector<float> row(160);
+  for (int r = 0; r < angles.grid().rows(); ++r) {
+    rows.row(r, row.data());
+    for (int c = 0; c < 160; ++c) {
+      ASSERT_EQ(row[c], tilted_prior[std::size_t(r) * 160 + c]) << r << ", " << c;
+      ASSERT_EQ(row[c], mm::groundPriorDepthAt(angles, tilted, r, c, 50.0)) << r << ", " << c;
+    }
+  }
 }
 
 TEST(GroundPrior, NearestSurfaceTakesTheRankedDepthAmongTheNearestSamples) {

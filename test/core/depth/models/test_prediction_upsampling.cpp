@@ -25,9 +25,8 @@ TEST(PredictionUpsampling, AffineInverseDepthAndVarianceComeOutExact) {
       }
     }
     mm::ThreadPool pool(2);
-    std::vector<float> scratch;
     mm::PixelPredictions out;
-    mm::upsamplePredictions(coarse, coarse_grid, grid, factor, pool, scratch, out);
+    mm::upsamplePredictions(coarse, coarse_grid, grid, factor, pool, out);
     ASSERT_EQ(out.mean.size(), std::size_t(grid.size()));
     const int last_row = (coarse_grid.rows() - 1) * factor;
     const int last_col = (coarse_grid.cols() - 1) * factor;
@@ -56,10 +55,44 @@ TEST(PredictionUpsampling, DepthBetweenTwoSamplesBlendsTheirInverses) {
   const mm::StrideGrid grid{image, 1}, coarse_grid{image, 2};
   mm::PixelPredictions coarse{{10.0f, 40.0f}, {1.0f, 3.0f}};
   mm::ThreadPool pool(1);
-  std::vector<float> scratch;
   mm::PixelPredictions out;
-  mm::upsamplePredictions(coarse, coarse_grid, grid, 2, pool, scratch, out);
+  mm::upsamplePredictions(coarse, coarse_grid, grid, 2, pool, out);
   EXPECT_FLOAT_EQ(out.mean[1], 1.0f / (0.5f / 10.0f + 0.5f / 40.0f));  // 16 m, not 25
   EXPECT_FLOAT_EQ(out.variance[1], 2.0f);
   EXPECT_FLOAT_EQ(out.mean[2], 40.0f);
+}
+
+// Read row by row as each row is interpolated (what image_guided does with ground_gp's coarser
+// prior) the values are those upsamplePredictions writes, bit for bit; a stored prediction is read
+// in place.
+TEST(PredictionUpsampling, RowsReadWhenInterpolatedAreTheWrittenPlanes) {
+  const mm::ImageSize image{29, 45};
+  const mm::StrideGrid grid{image, 1}, coarse_grid{image, 4};
+  mm::PixelPredictions coarse;
+  for (int i = 0; i < coarse_grid.size(); ++i) {
+    coarse.mean.push_back(3.0f + 0.37f * float(i % 11) + 0.11f * float(i % 7));
+    coarse.variance.push_back(0.5f + 0.013f * float(i % 13));
+  }
+  mm::ThreadPool pool(2);
+  mm::PixelPredictions written;
+  mm::upsamplePredictions(coarse, coarse_grid, grid, 4, pool, written);
+  mm::UpsampledPredictions upsampled;
+  upsampled.prepare(coarse, coarse_grid, grid, 4, pool);
+  const mm::PredictionRows interpolated(upsampled);
+  const mm::PredictionRows stored(written, grid.rows(), grid.cols());
+  ASSERT_EQ(interpolated.rows(), grid.rows());
+  ASSERT_EQ(interpolated.cols(), grid.cols());
+  std::vector<float> scratch(grid.cols());
+  for (int r = 0; r < grid.rows(); ++r) {
+    const std::size_t at = std::size_t(r) * grid.cols();
+    const float* mean = interpolated.mean(r, scratch.data());
+    EXPECT_EQ(mean, scratch.data());
+    for (int c = 0; c < grid.cols(); ++c)
+      ASSERT_EQ(mean[c], written.mean[at + c]) << r << ", " << c;
+    const float* variance = interpolated.variance(r, scratch.data());
+    for (int c = 0; c < grid.cols(); ++c)
+      ASSERT_EQ(variance[c], written.variance[at + c]) << r << ", " << c;
+    EXPECT_EQ(stored.mean(r, scratch.data()), written.mean.data() + at);
+    EXPECT_EQ(stored.variance(r, scratch.data()), written.variance.data() + at);
+  }
 }

@@ -7,6 +7,7 @@
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/angular_triangulation.hpp"
 #include "multimodal_nvs/core/depth/depth_params.hpp"
+#include "multimodal_nvs/core/depth/models/model_scratch.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 #include "multimodal_nvs/core/depth/neighbour_sets.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"

@@ -11,6 +11,7 @@
 #include "multimodal_nvs/core/depth/angular_samples.hpp"
 #include "multimodal_nvs/core/depth/depth_params.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
+#include "multimodal_nvs/core/depth/models/prediction_upsampling.hpp"
 #include "multimodal_nvs/core/depth/pixel_angle_grid.hpp"
 #include "multimodal_nvs/core/depth/sky_mask.hpp"
 
@@ -20,14 +21,15 @@ struct GroundPlane;
 
 /// `image_guided` (image_guided_model.cpp). `image`: the camera image at the grid's full image
 /// size (8-bit or 16-bit, 1, 3 or 4 channels, BGR order). Throws InputError when it is missing or
-/// of another size. `model_prior`: another model's prediction per grid pixel (row-major; a mean
-/// of +inf or NaN where it has none) that replaces the ground and surface prior, its variance
-/// standing in where only the prior speaks (guided.ground_gp_prior: ground_gp's prediction);
-/// nullptr: the model's own prior.
+/// of another size. `model_prior`: another model's prediction on the grid, read row by row (a
+/// mean of +inf or NaN where it has none), that replaces the ground and surface prior, its
+/// variance standing in where only the prior speaks (guided.ground_gp_prior: ground_gp's
+/// prediction, possibly interpolated from a coarser grid as it is read); nullptr: the model's own
+/// prior. Throws InputError when it is not of the grid's size.
 void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                         const DepthCompletionParams& params, const GroundPlane& plane,
                         const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
-                        const PixelPredictions* model_prior = nullptr);
+                        const PredictionRows* model_prior = nullptr);
 
 /// The image's sky on the grid for another model's prediction (skyMask on the ground plane's
 /// horizon and the returns' top rows, guided.sky_* parameters): 1 where sky. It does not depend on

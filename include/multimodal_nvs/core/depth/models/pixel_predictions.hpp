@@ -15,19 +15,6 @@ struct PixelPredictions {
   std::vector<float> variance;
 };
 
-/// Full-image work buffers a model keeps between frames (the completer owns them): a fresh
-/// full-resolution buffer costs its page faults on every frame (9.4 MB of floats at 1936x1216).
-struct ModelScratch {
-  std::vector<std::uint8_t> filled;  ///< ground_gp dense: pixels inside a triangle
-  std::vector<float> longest_edge;   ///< ground_gp dense: longest edge (deg) of a pixel's triangle
-  PixelPredictions model_prior;      ///< image_guided: ground_gp's prediction, its prior
-  /// image_guided: the coarser grid of ground_gp's prior (guided.prior_step_px), the prediction
-  /// on it and the interpolation's scratch.
-  std::unique_ptr<PixelAngleGrid> prior_angles;
-  PixelPredictions coarse_prior;
-  std::vector<float> prior_upsampling;
-};
-
 /// Variance of a pixel that got no prediction.
 constexpr float kNoPrediction = std::numeric_limits<float>::infinity();
 
