@@ -1,6 +1,7 @@
 #include "multimodal_nvs/core/depth/models/prediction_upsampling.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace multimodal_nvs {
 namespace {
@@ -106,7 +107,11 @@ void upsamplePredictions(const PixelPredictions& coarse, const StrideGrid& coars
 }
 
 PredictionRows::PredictionRows(const PixelPredictions& stored, int rows, int cols)
-    : stored_(&stored), rows_(rows), cols_(cols) {}
+    : stored_(&stored), rows_(rows), cols_(cols) {
+  const std::size_t n = std::size_t(std::max(rows, 0)) * std::size_t(std::max(cols, 0));
+  if (stored.mean.size() != n || stored.variance.size() != n)
+    throw std::invalid_argument("PredictionRows: the prediction is not of rows x cols");
+}
 
 PredictionRows::PredictionRows(const UpsampledPredictions& upsampled)
     : upsampled_(&upsampled), rows_(upsampled.rows()), cols_(upsampled.cols()) {}

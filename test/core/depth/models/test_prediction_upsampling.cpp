@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 #include <vector>
 
 #include "multimodal_nvs/core/depth/models/prediction_upsampling.hpp"
@@ -95,4 +96,6 @@ TEST(PredictionUpsampling, RowsReadWhenInterpolatedAreTheWrittenPlanes) {
     EXPECT_EQ(stored.mean(r, scratch.data()), written.mean.data() + at);
     EXPECT_EQ(stored.variance(r, scratch.data()), written.variance.data() + at);
   }
+  // A stored prediction of another size is refused, not read past its end.
+  EXPECT_THROW(mm::PredictionRows(written, grid.rows() + 1, grid.cols()), std::invalid_argument);
 }

@@ -43,6 +43,7 @@ void upsamplePredictions(const PixelPredictions& coarse, const StrideGrid& coars
 /// interpolated from a coarser grid as each row is read (UpsampledPredictions). Both outlive it.
 class PredictionRows {
  public:
+  /// Throws std::invalid_argument when `stored` does not hold rows x cols means and variances.
   PredictionRows(const PixelPredictions& stored, int rows, int cols);
   explicit PredictionRows(const UpsampledPredictions& upsampled);
   int rows() const { return rows_; }
