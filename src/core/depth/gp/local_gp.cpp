@@ -68,38 +68,40 @@ bool LocalGp::factorize(double length_scale) {
     packed_[k++] += noise2;
   }
   if (n_ <= kUnrolledCholeskyMaxSize) return choleskyPacked(packed_.data(), n_);
+  // Both dense paths read and write the lower triangle only (the upper one holds whatever an
+  // earlier set left there).
+  Eigen::Map<Eigen::MatrixXd> dense = denseOfSize(n_);
+  k = 0;
+  for (int i = 0; i < n_; ++i) {
+    for (int j = 0; j <= i; ++j)
+      dense(i, j) = packed_[k++];
+  }
   if (n_ <= kPackedCholeskyMaxSize) {
     // Medium sets: column-major copy, so that the updates are contiguous AXPYs that vectorise.
-    dense_.resize(n_, n_);
+    if (!choleskyColumns(dense.data(), n_)) return false;
     k = 0;
     for (int i = 0; i < n_; ++i) {
       for (int j = 0; j <= i; ++j)
-        dense_(i, j) = packed_[k++];
-    }
-    if (!choleskyColumns(dense_.data(), n_)) return false;
-    k = 0;
-    for (int i = 0; i < n_; ++i) {
-      for (int j = 0; j <= i; ++j)
-        packed_[k++] = dense_(i, j);
+        packed_[k++] = dense(i, j);
     }
     return true;
   }
   // Large sets (dense LiDAR): Eigen's blocked, vectorised LLT on a dense copy.
-  dense_.resize(n_, n_);
-  k = 0;
-  for (int i = 0; i < n_; ++i) {
-    for (int j = 0; j <= i; ++j)
-      dense_(i, j) = packed_[k++];
-  }
-  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(dense_);
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(dense);
   if (llt.info() != Eigen::Success) return false;
   k = 0;
   for (int i = 0; i < n_; ++i) {
     for (int j = 0; j <= i; ++j)
-      packed_[k++] = dense_(i, j);
-    if (!(dense_(i, i) > 0.0) || !std::isfinite(dense_(i, i))) return false;
+      packed_[k++] = dense(i, j);
+    if (!(dense(i, i) > 0.0) || !std::isfinite(dense(i, i))) return false;
   }
   return true;
+}
+
+Eigen::Map<Eigen::MatrixXd> LocalGp::denseOfSize(int n) {
+  const std::size_t size = std::size_t(n) * std::size_t(n);
+  if (dense_storage_.size() < size) dense_storage_.resize(size);
+  return Eigen::Map<Eigen::MatrixXd>(dense_storage_.data(), n, n);
 }
 
 namespace {
