@@ -386,17 +386,10 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
   std::vector<float> prior;
   if (model_prior == nullptr) prior = own_prior.plane(pool);
   std::vector<std::uint8_t> sky;
+  // The sky reads the own prior's rows above the ground (those of `prior`, before the surfaces).
   if (g.sky) {
     sky = skyMaskOf(
-        guide,
-        [&](int r, float* out) {
-          if (prior.empty()) {
-            own_prior.row(r, out);
-          } else {
-            std::copy_n(prior.data() + std::size_t(r) * cols, cols, out);
-          }
-        },
-        returns.top_row, g, pool);
+        guide, [&](int r, float* out) { own_prior.row(r, out); }, returns.top_row, g, pool);
   }
   if (model_prior == nullptr && g.surface_prior)
     applySurfacePrior(samples, angles, g, far, sky, pool, prior);
