@@ -30,7 +30,7 @@ add_dependencies(test_core make_synthetic_scene)
 mmnvs_add_gtest(test_tools test/tools/test_complete_depth_tool.cpp test/tools/test_evaluate_tool.cpp
   test/tools/test_render_conditioning_tool.cpp
   test/tools/test_tool_command_lines.cpp test/tools/test_camera_and_layout_tools.cpp
-  test/tools/test_analysis_scripts.cpp)
+  test/tools/test_analysis_scripts.cpp test/tools/test_compare_builds.cpp)
 add_dependencies(test_tools complete_depth evaluate_depth render_conditioning make_synthetic_scene)
 
 catkin_add_gtest(test_vod_to_bag test/tools/test_vod_to_bag.cpp
