@@ -448,10 +448,11 @@ def suite_tables(suite, raw, label, truth, notes, lidar_note=""):
                  RETENTION_NOTE if percent < 100 else "", notes),
                 lidar, percent, lidar_failures,
                 load_common(d, "lidar") if percent == 100 else None))
-    # Calibration curves of the predictive variance (all pixels): ground_gp and, for contrast, the
-    # reference GP on radar; ground_gp on LiDAR input too.
+    # Calibration curves of the predictive variance (all pixels): the radar default (image_guided),
+    # ground_gp and, for contrast, the reference GP on radar; ground_gp (the LiDAR default) on LiDAR
+    # input too.
     rows = []
-    for input_name, docs, models in (("radar", radar, ("ground_gp", "local_gp_mle")),
+    for input_name, docs, models in (("radar", radar, ("image_guided", "ground_gp", "local_gp_mle")),
                                      ("LiDAR 1-in-4", lidar, ("ground_gp",))):
         for model, doc in docs:
             if model in models:
