@@ -63,6 +63,8 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     compressed_input_ = pnh.param("compressed_input", false);
     cloud_to_camera_.timeout = ros::Duration(pnh.param("tf_timeout", 0.1));
     cloud_to_camera_.fixed_frame = pnh.param("fixed_frame", std::string());
+    ground_from_tf_.timeout = cloud_to_camera_.timeout;
+    ground_from_tf_.frame = pnh.param("ground_frame", std::string());
     max_points_ = pnh.param("max_points", 0);
     readColorScales(pnh);
 
@@ -206,8 +208,9 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
       startOver();
     }
     if (!accept(admission.status, "image")) return;
-    const rc::DepthFrameResult frame = rc::completeDepthFrame(
-        cloud, image, info, *tf_buffer_, cloud_to_camera_, settings, max_points_, workspace_);
+    const rc::DepthFrameResult frame =
+        rc::completeDepthFrame(cloud, image, info, *tf_buffer_, cloud_to_camera_, ground_from_tf_,
+                               settings, max_points_, workspace_);
     if (frame.reading.step > 1) {
       diagnostics_.countSubsampled(frame.reading.step);
       NODELET_WARN_THROTTLE(5.0,
@@ -290,6 +293,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   SyncSettings sync_settings_;
   bool compressed_input_ = false;
   rc::CloudToCamera cloud_to_camera_;
+  rc::GroundFromTf ground_from_tf_;
   int max_points_ = 0;  // < 0: no limit, 0: automatic (pointCap), > 0: that many
   static constexpr double kDefaultDepthColorMax = 50.0;   // m: radar range of View-of-Delft
   static constexpr double kDefaultStddevColorMax = 10.0;  // m

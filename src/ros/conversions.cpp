@@ -290,29 +290,35 @@ ConversionStatus validateImage(const sensor_msgs::Image& image) {
   return ConversionStatus::success();
 }
 
-ConversionStatus rgbFromImage(const sensor_msgs::Image& image, cv::Mat& rgb) {
+ConversionStatus colourFromImage(const sensor_msgs::Image& image, ChannelOrder order,
+                                 cv::Mat& out) {
   ConversionStatus status = validateImage(image);
   if (!status.ok()) return status;
   const int channels = supportedChannels(image.encoding);
   // The Mat header only wraps the message buffer; it is never written through.
   const cv::Mat wrapped(int(image.height), int(image.width), CV_8UC(channels),
                         const_cast<std::uint8_t*>(image.data.data()), image.step);
-  if (image.encoding == enc::RGB8) {
-    rgb = wrapped;
-  } else if (image.encoding == enc::BGR8) {
-    cv::cvtColor(wrapped, rgb, cv::COLOR_BGR2RGB);
+  const bool rgb = order == ChannelOrder::kRgb;
+  if (image.encoding == (rgb ? enc::RGB8 : enc::BGR8)) {
+    out = wrapped;
+  } else if (image.encoding == enc::RGB8 || image.encoding == enc::BGR8) {
+    cv::cvtColor(wrapped, out, cv::COLOR_RGB2BGR);  // the same swap either way
   } else if (image.encoding == enc::RGBA8) {
-    cv::cvtColor(wrapped, rgb, cv::COLOR_RGBA2RGB);
+    cv::cvtColor(wrapped, out, rgb ? cv::COLOR_RGBA2RGB : cv::COLOR_RGBA2BGR);
   } else if (image.encoding == enc::BGRA8) {
-    cv::cvtColor(wrapped, rgb, cv::COLOR_BGRA2RGB);
+    cv::cvtColor(wrapped, out, rgb ? cv::COLOR_BGRA2RGB : cv::COLOR_BGRA2BGR);
   } else {
-    cv::cvtColor(wrapped, rgb, cv::COLOR_GRAY2RGB);
+    cv::cvtColor(wrapped, out, rgb ? cv::COLOR_GRAY2RGB : cv::COLOR_GRAY2BGR);
   }
   return ConversionStatus::success();
 }
 
-ConversionStatus rgbFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& rgb) {
-  cv::Mat bgr;
+ConversionStatus rgbFromImage(const sensor_msgs::Image& image, cv::Mat& rgb) {
+  return colourFromImage(image, ChannelOrder::kRgb, rgb);
+}
+
+ConversionStatus bgrFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& bgr) {
+  bgr.release();
   if (!image.data.empty()) {
     try {
       const cv::Mat payload(1, int(image.data.size()), CV_8UC1,
@@ -327,8 +333,14 @@ ConversionStatus rgbFromCompressed(const sensor_msgs::CompressedImage& image, cv
         InputFault::kImageDecode, concat("CompressedImage (format '", image.format, "', ",
                                          image.data.size(), " bytes) is not a decodable jpeg/png"));
   }
-  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
   return ConversionStatus::success();
+}
+
+ConversionStatus rgbFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& rgb) {
+  cv::Mat bgr;
+  const ConversionStatus status = bgrFromCompressed(image, bgr);
+  if (status.ok()) cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return status;
 }
 
 ConversionStatus intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info,
@@ -546,18 +558,23 @@ ConversionStatus frameImage(const sensor_msgs::Image& image, FrameImage& frame) 
   if (!status.ok()) return status;
   frame.header = image.header;
   frame.size = ImageSize{int(image.height), int(image.width)};
-  frame.rgb = [&image](cv::Mat& rgb) { return rgbFromImage(image, rgb); };
+  frame.rgb = [&image](cv::Mat& rgb) { return colourFromImage(image, ChannelOrder::kRgb, rgb); };
+  frame.bgr = [&image](cv::Mat& bgr) { return colourFromImage(image, ChannelOrder::kBgr, bgr); };
   return status;
 }
 
 ConversionStatus frameImage(const sensor_msgs::CompressedImage& image, FrameImage& frame) {
-  cv::Mat decoded;
-  ConversionStatus status = rgbFromCompressed(image, decoded);
+  cv::Mat decoded;  // OpenCV decodes into BGR
+  ConversionStatus status = bgrFromCompressed(image, decoded);
   if (!status.ok()) return status;
   frame.header = image.header;
   frame.size = ImageSize{decoded.rows, decoded.cols};
   frame.rgb = [decoded](cv::Mat& rgb) {
-    rgb = decoded;
+    cv::cvtColor(decoded, rgb, cv::COLOR_BGR2RGB);
+    return ConversionStatus::success();
+  };
+  frame.bgr = [decoded](cv::Mat& bgr) {
+    bgr = decoded;
     return ConversionStatus::success();
   };
   return status;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/depth/hidden_returns.hpp"
 
 namespace multimodal_nvs {
@@ -31,6 +32,21 @@ ConversionStatus lookupSensorToCamera(const tf2_ros::Buffer& tf_buffer,
     return ConversionStatus::success();
   } catch (const tf2::TransformException& e) {
     return ConversionStatus::failure(InputFault::kTransformUnavailable, e.what());
+  }
+}
+
+ConversionStatus lookupGroundPlane(const tf2_ros::Buffer& tf_buffer,
+                                   const std_msgs::Header& camera_header, const GroundFromTf& how,
+                                   GroundPriorParams& ground) {
+  if (how.frame.empty()) return ConversionStatus::success();
+  try {
+    const Eigen::Isometry3d camera_to_ground = tf2::transformToEigen(tf_buffer.lookupTransform(
+        how.frame, camera_header.frame_id, camera_header.stamp, how.timeout));
+    applyCameraPose(camera_to_ground.matrix(), ground);
+    return ConversionStatus::success();
+  } catch (const tf2::TransformException& e) {
+    return ConversionStatus::failure(InputFault::kTransformUnavailable,
+                                     "ground_frame '" + how.frame + "': " + e.what());
   }
 }
 
@@ -71,6 +87,7 @@ DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const
                                     const sensor_msgs::CameraInfo& info,
                                     const tf2_ros::Buffer& tf_buffer,
                                     const CloudToCamera& cloud_to_camera,
+                                    const GroundFromTf& ground_from_tf,
                                     const DepthCompletionSettings& settings, int max_points,
                                     DepthCompletionWorkspace& workspace) {
   DepthFrameResult result;
@@ -85,18 +102,28 @@ DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const
   result.status = lookupSensorToCamera(tf_buffer, cloud.header, image.header, cloud_to_camera,
                                        sensor_to_camera);
   if (!result.status.ok()) return result;
-  // Only image_guided and ground_gp's sky and colours read the pixels (a compressed image is
-  // already decoded, a raw one wrapped).
+  // The ground plane from tf, for the models that have one (a copy of the parameters only then).
+  DepthCompletionParams with_ground;
+  const DepthCompletionParams* params = &settings.params;
+  if (!ground_from_tf.frame.empty() && settings.params.usesGroundPlane()) {
+    with_ground = settings.params;
+    result.status = lookupGroundPlane(tf_buffer, image.header, ground_from_tf, with_ground.ground);
+    if (!result.status.ok()) return result;
+    params = &with_ground;
+  }
+  // Only image_guided and ground_gp's sky and colours read the pixels, in the core's BGR order
+  // like cv::imread's (the sky's colour test and brightness read the channels by position); a
+  // compressed image is already decoded, a bgr8 one wrapped.
   cv::Mat pixels;
   if (settings.params.readsImage()) {
     result.input = "image";
-    result.status = image.rgb(pixels);
+    result.status = image.bgr(pixels);
     if (!result.status.ok()) return result;
   }
   result.input = "points";
   try {
     result.status = completeDepthFromCloud(cloud, sensor_to_camera, result.intrinsics,
-                                           StrideGrid{image.size, settings.stride}, settings.params,
+                                           StrideGrid{image.size, settings.stride}, *params,
                                            max_points, workspace, result.reading, pixels);
   } catch (const InputError& e) {
     result.error = e.what();

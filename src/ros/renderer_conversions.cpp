@@ -297,10 +297,11 @@ RendererStatus rendererInputFromMessages(const sensor_msgs::Image& image,
   out.kept.release();
   if (!convert_pixels) return RendererStatus::success();
 
-  cv::Mat rgb;
-  status = fromConversion(rgbFromImage(image, rgb), "image");
+  cv::Mat bgr;
+  status = fromConversion(colourFromImage(image, ChannelOrder::kBgr, bgr), "image");
   if (!status.ok()) return status;
-  cv::cvtColor(rgb, out.image_bgr, cv::COLOR_RGB2BGR);  // a copy: the message may go away
+  // A copy either way: the message may go away (bgr8 is only wrapped).
+  out.image_bgr = bgr.data == image.data.data() ? bgr.clone() : bgr;
   out.grid_bgr = sampleImageOnGrid(out.image_bgr, stride_grid);
   out.depth = depthMetres(depth);
   const cv::Mat wrapped(grid.height, grid.width, CV_8UC1,

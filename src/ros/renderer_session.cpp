@@ -63,10 +63,10 @@ RendererStep RendererSession::onCameraImage(const sensor_msgs::Image& image,
   frame.header = image.header;
   frame.arrival = arrival;
   if (collector_.active()) {
-    cv::Mat rgb, bgr;
-    step.fault = rc::fromConversion(rc::rgbFromImage(image, rgb), "image");
+    cv::Mat bgr;
+    step.fault =
+        rc::fromConversion(rc::colourFromImage(image, rc::ChannelOrder::kBgr, bgr), "image");
     if (!step.fault.ok()) return step;
-    cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
     frame.ground_truth = groundTruthAtRenderSize(bgr, settings.renderSize());
   }
   if (keyframe_ && frame.header.stamp >= keyframe_->input().header.stamp) {

@@ -1,13 +1,20 @@
 // completeDepthFrame and its steps on the synthetic scene: the sensor -> camera transform (at the
-// cloud's stamp, or across the two stamps through a fixed frame), the point cap, the order in which
-// faults are reported, the core's result unchanged; no master.
+// cloud's stamp, or across the two stamps through a fixed frame), the ground plane from tf, the
+// point cap, the order in which faults are reported, the core's result unchanged; no master.
 #include <gtest/gtest.h>
+#include <sensor_msgs/image_encodings.h>
+#include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "multimodal_nvs/core/common/errors.hpp"
+#include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/depth/hidden_returns.hpp"
 #include "multimodal_nvs/ros/depth_frame.hpp"
 #include "synthetic_scene.hpp"
@@ -51,9 +58,9 @@ class DepthFrame : public testing::Test {
     settings_.stride = 4;
   }
 
-  rc::DepthFrameResult complete(int max_points = 0) {
-    return rc::completeDepthFrame(set_.cloud, image_, set_.info, tf_, kAtCloudStamp, settings_,
-                                  max_points, workspace_);
+  rc::DepthFrameResult complete(int max_points = 0, const rc::GroundFromTf& ground = {}) {
+    return rc::completeDepthFrame(set_.cloud, image_, set_.info, tf_, kAtCloudStamp, ground,
+                                  settings_, max_points, workspace_);
   }
 
   const ros::Time stamp_{100.0};
@@ -205,6 +212,145 @@ TEST_F(DepthFrame, TheCloudsTfOriginIsTheScannersPositionForTheHiddenReturnFilte
   }
   EXPECT_EQ(wall_with, 0);
   EXPECT_GT(wall_without, 100);
+}
+
+/// The camera's optical frame (x right, y down, z forward) in a z-up frame on the road under it:
+/// `height` above the road, the optical axis `pitch_deg` above the horizon.
+Eigen::Isometry3d cameraToGround(double height, double pitch_deg) {
+  Eigen::Matrix3d optical_to_level;  // columns: the optical axes in a level x-forward, z-up frame
+  optical_to_level << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() =
+      Eigen::AngleAxisd(-pitch_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix() *
+      optical_to_level;
+  t.translation() = Eigen::Vector3d(0.0, 0.0, height);
+  return t;
+}
+
+geometry_msgs::TransformStamped groundToCameraMsg(const Eigen::Isometry3d& camera_to_ground) {
+  geometry_msgs::TransformStamped msg = tf2::eigenToTransform(camera_to_ground);
+  msg.header.frame_id = "scene_base_footprint";
+  msg.child_frame_id = scene::kCameraFrame;
+  return msg;
+}
+
+TEST_F(DepthFrame, TheGroundPlaneComesFromTfWhenAGroundFrameIsSet) {
+  const Eigen::Isometry3d camera_to_ground = cameraToGround(1.7, 5.0);
+  ASSERT_TRUE(tf_.setTransform(groundToCameraMsg(camera_to_ground), "test", /*is_static=*/true));
+  const rc::GroundFromTf from_tf{"scene_base_footprint", ros::Duration(0.01)};
+
+  mm::GroundPriorParams ground;  // the parameters: 1.3 m, level
+  ASSERT_TRUE(rc::lookupGroundPlane(tf_, cameraHeader(stamp_), from_tf, ground).ok());
+  EXPECT_NEAR(ground.camera_height, 1.7, 1e-9);
+  // World up seen from the camera: mostly -y (image up); the optical axis points 5 deg above the
+  // horizon, so up has a component sin(5 deg) along it.
+  const Eigen::Vector3d up = camera_to_ground.linear().transpose() * Eigen::Vector3d::UnitZ();
+  EXPECT_NEAR(ground.up_x, up.x(), 1e-9);
+  EXPECT_NEAR(ground.up_y, up.y(), 1e-9);
+  EXPECT_NEAR(ground.up_z, up.z(), 1e-9);
+  EXPECT_NEAR(ground.up_y, -std::cos(5.0 * M_PI / 180.0), 1e-9);
+  EXPECT_NEAR(ground.up_z, std::sin(5.0 * M_PI / 180.0), 1e-9);
+  EXPECT_EQ(ground.plane_source, mm::GroundPriorParams::PlaneSource::kPose);
+
+  // No ground frame: the parameters stay as they are.
+  mm::GroundPriorParams untouched;
+  ASSERT_TRUE(rc::lookupGroundPlane(tf_, cameraHeader(stamp_), {}, untouched).ok());
+  EXPECT_EQ(untouched.camera_height, mm::GroundPriorParams().camera_height);
+  EXPECT_EQ(untouched.plane_source, mm::GroundPriorParams::PlaneSource::kParameters);
+
+  // A ground frame tf does not know is a missing transform that names the frame.
+  const rc::ConversionStatus missing = rc::lookupGroundPlane(
+      tf_, cameraHeader(stamp_), {"base_footprint", ros::Duration(0.01)}, untouched);
+  EXPECT_EQ(missing.fault, InputFault::kTransformUnavailable);
+  EXPECT_NE(missing.reason.find("base_footprint"), std::string::npos) << missing.reason;
+  EXPECT_EQ(untouched.camera_height, mm::GroundPriorParams().camera_height);
+}
+
+TEST_F(DepthFrame, AModelWithAGroundPlaneTakesItFromTfAndTheCoreComputesTheSame) {
+  const Eigen::Isometry3d camera_to_ground = cameraToGround(1.7, 5.0);
+  ASSERT_TRUE(tf_.setTransform(groundToCameraMsg(camera_to_ground), "test", /*is_static=*/true));
+  settings_.params.model = mm::DepthModel::kGroundGp;
+  const rc::GroundFromTf from_tf{"scene_base_footprint", ros::Duration(0.01)};
+  const rc::DepthFrameResult result = complete(0, from_tf);
+  ASSERT_TRUE(result.completed()) << result.status.reason << result.error;
+  const mm::DepthMap got = workspace_.depth();
+  EXPECT_EQ(got.stats.ground_source, "pose");
+
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3d& p : scene::sensorPoints())
+    points.push_back(scene::sensorToCamera() * p.cast<float>().cast<double>());
+  mm::DepthCompletionParams params = settings_.params;
+  mm::applyCameraPose(camera_to_ground.matrix(), params.ground);
+  const mm::DepthMap want =
+      mm::DepthCompleter(params.threads)
+          .complete(points, result.intrinsics, {{scene::kHeight, scene::kWidth}, 4}, params);
+  EXPECT_EQ(got.depth, want.depth);
+  EXPECT_EQ(got.variance, want.variance);
+
+  // The parameters' plane (1.3 m, level) gives another depth: the plane did reach the model.
+  ASSERT_TRUE(complete().completed());
+  EXPECT_EQ(workspace_.depth().stats.ground_source, "parameters");
+  EXPECT_NE(workspace_.depth().depth, got.depth);
+}
+
+TEST_F(DepthFrame, AMissingGroundTransformDropsOnlyTheModelsThatUseTheGround) {
+  const rc::GroundFromTf nowhere{"base_footprint", ros::Duration(0.01)};
+  settings_.params.model = mm::DepthModel::kGroundGp;
+  const rc::DepthFrameResult dropped = complete(0, nowhere);
+  EXPECT_EQ(dropped.status.fault, InputFault::kTransformUnavailable);
+  EXPECT_STREQ(dropped.input, "tf");
+  EXPECT_FALSE(dropped.completed());
+  settings_.params.model = mm::DepthModel::kKernel;  // no ground plane: no lookup
+  const rc::DepthFrameResult kernel = complete(0, nowhere);
+  EXPECT_TRUE(kernel.completed()) << kernel.status.reason;
+}
+
+TEST_F(DepthFrame, TheImageReachesTheModelsInTheCoresChannelOrder) {
+  // A bright, flat, blue sky over rows 0-59 (above the horizon and every return): the core, given
+  // the image in OpenCV's BGR order as the tools read it, sends it to the far clamp. Its colour
+  // test reads the channels by position, so an image handed over in RGB order has no sky.
+  for (int v = 0; v < 60; ++v) {
+    for (int u = 0; u < scene::kWidth; ++u) {
+      std::uint8_t* px = &set_.image.data[std::size_t(v) * set_.image.step + 3 * u];  // bgr8
+      px[0] = 230;
+      px[1] = 180;
+      px[2] = 120;
+    }
+  }
+  ASSERT_TRUE(rc::frameImage(set_.image, image_).ok());
+  settings_.params.model = mm::DepthModel::kImageGuided;
+  const rc::DepthFrameResult result = complete();
+  ASSERT_TRUE(result.completed()) << result.status.reason << result.error;
+  const mm::DepthMap got = workspace_.depth();
+
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3d& p : scene::sensorPoints())
+    points.push_back(scene::sensorToCamera() * p.cast<float>().cast<double>());
+  const cv::Mat bgr =
+      cv::Mat(scene::kHeight, scene::kWidth, CV_8UC3, set_.image.data.data(), set_.image.step)
+          .clone();
+  const mm::DepthMap want =
+      mm::DepthCompleter(settings_.params.threads)
+          .complete(points, result.intrinsics, {{scene::kHeight, scene::kWidth}, 4},
+                    settings_.params, bgr);
+  EXPECT_EQ(got.depth, want.depth);
+  EXPECT_EQ(got.variance, want.variance);
+  const float far = static_cast<float>(settings_.params.guided.far_depth);
+  const long sky = std::count(got.depth.begin(), got.depth.begin() + 15 * got.grid.cols(), far);
+  // Grid rows 0-14 are image rows 0-56: sky but for the columns near the image's edge.
+  EXPECT_GT(sky, 12 * got.grid.cols());
+
+  // The same pixels as rgb8 give the same depth.
+  sensor_msgs::Image rgb8 = set_.image;
+  rgb8.encoding = sensor_msgs::image_encodings::RGB8;
+  for (int v = 0; v < scene::kHeight; ++v) {
+    for (int u = 0; u < scene::kWidth; ++u)
+      std::swap(rgb8.data[std::size_t(v) * rgb8.step + 3 * u],
+                rgb8.data[std::size_t(v) * rgb8.step + 3 * u + 2]);
+  }
+  ASSERT_TRUE(rc::frameImage(rgb8, image_).ok());
+  ASSERT_TRUE(complete().completed());
+  EXPECT_EQ(workspace_.depth().depth, got.depth);
 }
 
 TEST_F(DepthFrame, ACloudOverTheCapIsReadEveryKthPoint) {

@@ -261,7 +261,7 @@ sensor_msgs::Image makeImage(const std::string& encoding, int channels, int widt
   return image;
 }
 
-TEST(ImageConversion, EveryEncodingGivesRgbHonouringStep) {
+TEST(ImageConversion, EveryEncodingGivesRgbAndBgrHonouringStep) {
   struct Case {
     std::string encoding;
     int channels;
@@ -273,29 +273,40 @@ TEST(ImageConversion, EveryEncodingGivesRgbHonouringStep) {
                                          {enc::BGRA8, 4, 2, 1, 0},
                                          {enc::MONO8, 1, 0, 0, 0}}) {
     const sensor_msgs::Image image = makeImage(c.encoding, c.channels, 7, 5, 3);
-    cv::Mat rgb;
+    cv::Mat rgb, bgr;
     ASSERT_TRUE(rc::rgbFromImage(image, rgb).ok()) << c.encoding;
-    ASSERT_EQ(rgb.type(), CV_8UC3);
-    ASSERT_EQ(rgb.rows, 5);
-    ASSERT_EQ(rgb.cols, 7);
+    ASSERT_TRUE(rc::colourFromImage(image, rc::ChannelOrder::kBgr, bgr).ok()) << c.encoding;
+    for (const cv::Mat* out : {&rgb, &bgr}) {
+      ASSERT_EQ(out->type(), CV_8UC3);
+      ASSERT_EQ(out->rows, 5);
+      ASSERT_EQ(out->cols, 7);
+    }
     for (int v = 0; v < 5; ++v) {
       for (int u = 0; u < 7; ++u) {
-        const cv::Vec3b px = rgb.at<cv::Vec3b>(v, u);
+        const cv::Vec3b px = rgb.at<cv::Vec3b>(v, u), bgr_px = bgr.at<cv::Vec3b>(v, u);
         const std::uint8_t* in = &image.data[v * image.step + u * c.channels];
         ASSERT_EQ(px[0], in[c.r]) << c.encoding;
         ASSERT_EQ(px[1], in[c.g]) << c.encoding;
         ASSERT_EQ(px[2], in[c.b]) << c.encoding;
+        ASSERT_EQ(bgr_px[0], in[c.b]) << c.encoding;
+        ASSERT_EQ(bgr_px[1], in[c.g]) << c.encoding;
+        ASSERT_EQ(bgr_px[2], in[c.r]) << c.encoding;
       }
     }
   }
 }
 
-TEST(ImageConversion, Rgb8IsWrappedWithoutCopy) {
+TEST(ImageConversion, AnEncodingInTheAskedOrderIsWrappedWithoutCopy) {
   const sensor_msgs::Image image = makeImage(enc::RGB8, 3, 4, 3, 2);
   cv::Mat rgb;
   ASSERT_TRUE(rc::rgbFromImage(image, rgb).ok());
   EXPECT_EQ(rgb.data, image.data.data());
   EXPECT_EQ(rgb.step[0], image.step);
+  const sensor_msgs::Image bgr8 = makeImage(enc::BGR8, 3, 4, 3, 2);
+  cv::Mat bgr;
+  ASSERT_TRUE(rc::colourFromImage(bgr8, rc::ChannelOrder::kBgr, bgr).ok());
+  EXPECT_EQ(bgr.data, bgr8.data.data());
+  EXPECT_EQ(bgr.step[0], bgr8.step);
 }
 
 TEST(ImageConversion, RejectsBadEncodingStepAndSize) {
@@ -345,9 +356,13 @@ TEST(FrameImage, RawIsValidatedAndConvertedOnlyOnDemand) {
   ASSERT_TRUE(rc::frameImage(image, frame).ok());
   EXPECT_EQ(frame.header.frame_id, "camera");
   EXPECT_EQ(frame.size, (mm::ImageSize{3, 4}));
-  cv::Mat rgb;
+  cv::Mat rgb, bgr;
   ASSERT_TRUE(frame.rgb(rgb).ok());
   EXPECT_EQ(rgb.data, image.data.data());  // rgb8: the message's own pixels
+  ASSERT_TRUE(frame.bgr(bgr).ok());        // and swapped for the depth models
+  EXPECT_NE(bgr.data, image.data.data());
+  EXPECT_EQ(bgr.at<cv::Vec3b>(1, 2)[0], rgb.at<cv::Vec3b>(1, 2)[2]);
+  EXPECT_EQ(bgr.at<cv::Vec3b>(1, 2)[2], rgb.at<cv::Vec3b>(1, 2)[0]);
   image.encoding = enc::TYPE_16UC1;
   EXPECT_EQ(rc::frameImage(image, frame).fault, InputFault::kImageEncoding);
 }
@@ -362,9 +377,11 @@ TEST(FrameImage, CompressedIsDecodedAtOnce) {
   ASSERT_TRUE(rc::frameImage(msg, frame).ok());
   EXPECT_EQ(frame.size, (mm::ImageSize{6, 8}));
   msg.data.clear();  // the decoded pixels do not depend on the message any more
-  cv::Mat rgb;
+  cv::Mat rgb, bgr;
   ASSERT_TRUE(frame.rgb(rgb).ok());
   EXPECT_EQ(rgb.at<cv::Vec3b>(2, 3), cv::Vec3b(240, 120, 10));
+  ASSERT_TRUE(frame.bgr(bgr).ok());
+  EXPECT_EQ(bgr.at<cv::Vec3b>(2, 3), cv::Vec3b(10, 120, 240));
   EXPECT_EQ(rc::frameImage(msg, frame).fault, InputFault::kImageDecode);
 }
 

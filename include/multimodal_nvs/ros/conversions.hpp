@@ -96,23 +96,33 @@ ConversionStatus validateCloudLayout(const sensor_msgs::PointCloud2& cloud);
 /// Checks encoding, size and step of an image without touching its pixels.
 ConversionStatus validateImage(const sensor_msgs::Image& image);
 
-/// Image -> RGB (CV_8UC3) view. rgb8 is wrapped without a copy (the Mat points into `image.data`,
-/// which must outlive it); other encodings are converted into a new buffer. Honours `step`.
+/// The channel order of a CV_8UC3 image: ROS messages and the renderer's colours are usually RGB,
+/// the core's depth models take OpenCV's BGR (what cv::imread gives the tools).
+enum class ChannelOrder { kRgb, kBgr };
+
+/// Image -> CV_8UC3 view in `order`. An encoding already in that order (rgb8 for kRgb, bgr8 for
+/// kBgr) is wrapped without a copy (the Mat points into `image.data`, which must outlive it);
+/// other encodings are converted into a new buffer. Honours `step`.
+ConversionStatus colourFromImage(const sensor_msgs::Image& image, ChannelOrder order, cv::Mat& out);
+/// colourFromImage in RGB order.
 ConversionStatus rgbFromImage(const sensor_msgs::Image& image, cv::Mat& rgb);
 
-/// Decodes a jpeg or png CompressedImage into RGB (CV_8UC3).
+/// Decodes a jpeg or png CompressedImage into BGR / RGB (CV_8UC3).
+ConversionStatus bgrFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& bgr);
 ConversionStatus rgbFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& rgb);
 
-/// The image of a synchronized set as depth completion needs it: header and size at once, the RGB
-/// pixels on demand (only depth/points needs colour).
+/// The image of a synchronized set as depth completion needs it: header and size at once, the
+/// pixels on demand: RGB for the coloured cloud (depth/points), BGR for the models that read the
+/// image (the core's order).
 struct FrameImage {
   std_msgs::Header header;
   ImageSize size;
   std::function<ConversionStatus(cv::Mat&)> rgb;
+  std::function<ConversionStatus(cv::Mat&)> bgr;
 };
 
-/// Raw image: validated without touching its pixels; `rgb` is rgbFromImage (rgb8 wrapped without a
-/// copy), so `image` must outlive `frame`.
+/// Raw image: validated without touching its pixels; `rgb` / `bgr` are colourFromImage (an
+/// encoding in that order wrapped without a copy), so `image` must outlive `frame`.
 ConversionStatus frameImage(const sensor_msgs::Image& image, FrameImage& frame);
 /// Compressed image: decoded at once, since decoding is the only way to learn its size.
 ConversionStatus frameImage(const sensor_msgs::CompressedImage& image, FrameImage& frame);

@@ -15,6 +15,26 @@
 namespace multimodal_nvs {
 namespace ros_conversions {
 
+/// Where the ground plane of the models that use one (`ground_gp`, `image_guided`) comes from when
+/// the returns do not show it (a LiDAR's do, and their own plane wins): with an empty frame, the
+/// ground_camera_height / ground_pitch_deg parameters; with a frame whose z axis points up and
+/// whose z = 0 is the road (REP 120's base_footprint, or odom where it starts on the road), the
+/// camera's height above it and the up direction, from tf at the image's stamp. The parameters
+/// then describe only a camera mounted like VoD's; tf describes the vehicle the node runs on.
+struct GroundFromTf {
+  std::string frame;
+  ros::Duration timeout{0.1};  ///< the longest wait for the transform
+};
+
+/// Sets `ground`'s plane from tf (camera_header's frame in `how.frame` at its stamp) when
+/// `how.frame` is set, through the core's applyCameraPose: up always, the height only when it is
+/// 0.2-5 m (a frame whose z = 0 is not the road keeps the parameters' height); plane_source becomes
+/// kPose. Unchanged with an empty frame; kTransformUnavailable, naming the frame, when tf has no
+/// such transform.
+ConversionStatus lookupGroundPlane(const tf2_ros::Buffer& tf_buffer,
+                                   const std_msgs::Header& camera_header, const GroundFromTf& how,
+                                   GroundPriorParams& ground);
+
 /// How a cloud's points are taken into the camera frame.
 struct CloudToCamera {
   ros::Duration timeout{0.1};  ///< the longest wait for a transform
@@ -71,11 +91,13 @@ struct DepthFrameResult {
 
 /// The whole frame in the order its faults are reported: camera_info's intrinsics for `image`, the
 /// cloud's layout (so that a malformed cloud is reported as such, not as a missing transform), its
-/// transform (lookupSensorToCamera), then completeDepthFromCloud into workspace.depth().
+/// transform (lookupSensorToCamera), the ground plane from tf when the model uses one
+/// (lookupGroundPlane), then completeDepthFromCloud into workspace.depth().
 DepthFrameResult completeDepthFrame(const sensor_msgs::PointCloud2& cloud, const FrameImage& image,
                                     const sensor_msgs::CameraInfo& info,
                                     const tf2_ros::Buffer& tf_buffer,
                                     const CloudToCamera& cloud_to_camera,
+                                    const GroundFromTf& ground_from_tf,
                                     const DepthCompletionSettings& settings, int max_points,
                                     DepthCompletionWorkspace& workspace);
 

@@ -214,6 +214,11 @@ struct DepthCompletionParams {
     return model == DepthModel::kImageGuided ||
            (model == DepthModel::kGroundGp && ground.image_sky);
   }
+  /// Whether the model has a ground plane (GroundPriorParams' height and up): ground_gp and
+  /// image_guided.
+  bool usesGroundPlane() const {
+    return model == DepthModel::kGroundGp || model == DepthModel::kImageGuided;
+  }
   /// Whether the model reads the camera image's pixels when it has them: needsImage(), and
   /// ground_gp's surface prior colours and (dense input) its occlusion vote's colours.
   bool readsImage() const {
