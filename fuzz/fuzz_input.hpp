@@ -1,6 +1,7 @@
 #pragma once
-// Shared by the harnesses and the seed writer: how a fuzz input becomes a PointCloud2 (and back,
-// so that seeds are real clouds), and the one exception type a reader may throw.
+// Shared by the harnesses and the seed writer: how a fuzz input becomes a PointCloud2 or an Image
+// (and back, so that seeds are real messages), and the one exception type a reader may throw.
+#include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 
 #include <cstdint>
@@ -93,6 +94,34 @@ inline std::string bytesFromCloud(const sensor_msgs::PointCloud2& cloud) {
     put<std::uint32_t>(out, field.count);
   }
   out.append(reinterpret_cast<const char*>(cloud.data.data()), cloud.data.size());
+  return out;
+}
+
+/// The encodings an image input can name: the five the node reads, and two it must refuse.
+inline const char* const kImageEncodings[] = {"rgb8",  "bgr8",  "rgba8", "bgra8",
+                                              "mono8", "16UC1", ""};
+constexpr unsigned kImageEncodingCount = sizeof(kImageEncodings) / sizeof(kImageEncodings[0]);
+
+/// Layout: encoding index (u8, modulo the list), height, width, step (u32); the rest is `data`.
+inline sensor_msgs::Image imageFromBytes(const std::uint8_t* data, std::size_t size) {
+  ByteReader in(data, size);
+  sensor_msgs::Image image;
+  image.encoding = kImageEncodings[in.take<std::uint8_t>() % kImageEncodingCount];
+  image.height = in.take<std::uint32_t>();
+  image.width = in.take<std::uint32_t>();
+  image.step = in.take<std::uint32_t>();
+  image.data.assign(in.rest(), in.rest() + in.restSize());
+  return image;
+}
+
+/// The inverse of imageFromBytes (seed corpus); `encoding` is an index into kImageEncodings.
+inline std::string bytesFromImage(const sensor_msgs::Image& image, std::uint8_t encoding) {
+  std::string out;
+  put<std::uint8_t>(out, encoding);
+  put<std::uint32_t>(out, image.height);
+  put<std::uint32_t>(out, image.width);
+  put<std::uint32_t>(out, image.step);
+  out.append(reinterpret_cast<const char*>(image.data.data()), image.data.size());
   return out;
 }
 

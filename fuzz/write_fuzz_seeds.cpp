@@ -214,6 +214,28 @@ void pcdSeeds(const std::string& dir) {
   }
 }
 
+void imageSeeds(const std::string& dir) {
+  // Every encoding index, a padded step, and one image per refusal: a short buffer, a step
+  // smaller than a row.
+  for (std::uint8_t e = 0; e < mmnvs_fuzz::kImageEncodingCount; ++e) {
+    sensor_msgs::Image image;
+    image.height = 3;
+    image.width = 4;
+    image.step = 4 * 4 + 2;  // room for four channels and padding
+    for (std::uint32_t i = 0; i < image.step * image.height; ++i)
+      image.data.push_back(static_cast<std::uint8_t>(17 * i));
+    writeFile(dir + "/encoding_" + std::to_string(e), mmnvs_fuzz::bytesFromImage(image, e));
+    if (e == 0) {
+      sensor_msgs::Image short_data = image;
+      short_data.data.resize(10);
+      writeFile(dir + "/short_data", mmnvs_fuzz::bytesFromImage(short_data, e));
+      sensor_msgs::Image narrow = image;
+      narrow.step = 5;
+      writeFile(dir + "/narrow_step", mmnvs_fuzz::bytesFromImage(narrow, e));
+    }
+  }
+}
+
 void npySeeds(const std::string& dir) {
   const std::vector<float> values = {1.0f, -2.0f, 0.5f, 1e-3f, 3.0f, 7.0f};
   io::writeNpy(dir + "/f4_2x3.npy", values.data(), {2, 3});
@@ -249,6 +271,7 @@ int main(int argc, char** argv) {
     const std::string root = argv[1];
     makeDir(root);
     cloudSeeds(makeDir(root + "/fuzz_cloud"));
+    imageSeeds(makeDir(root + "/fuzz_image"));
     kittiSeeds(makeDir(root + "/fuzz_kitti_calib"));
     cameraInfoSeeds(makeDir(root + "/fuzz_camera_info"));
     poseSeeds(makeDir(root + "/fuzz_vod_pose"));

@@ -31,7 +31,7 @@ if [[ -n "$RUNS" ]] && ! [[ "$RUNS" =~ ^[1-9][0-9]*$ ]]; then
   echo "scripts/fuzz.sh: FUZZ_RUNS must be a positive whole number" >&2
   exit 2
 fi
-ALL_FUZZERS="fuzz_cloud fuzz_kitti_calib fuzz_camera_info fuzz_vod_pose fuzz_bin fuzz_pcd fuzz_npy"
+ALL_FUZZERS="fuzz_cloud fuzz_image fuzz_kitti_calib fuzz_camera_info fuzz_vod_pose fuzz_bin fuzz_pcd fuzz_npy"
 read -r -a fuzzers <<<"${FUZZERS:-$ALL_FUZZERS}"
 
 mkdir -p "$BUILD"
