@@ -313,10 +313,6 @@ ConversionStatus colourFromImage(const sensor_msgs::Image& image, ChannelOrder o
   return ConversionStatus::success();
 }
 
-ConversionStatus rgbFromImage(const sensor_msgs::Image& image, cv::Mat& rgb) {
-  return colourFromImage(image, ChannelOrder::kRgb, rgb);
-}
-
 ConversionStatus bgrFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& bgr) {
   bgr.release();
   if (!image.data.empty()) {
@@ -334,13 +330,6 @@ ConversionStatus bgrFromCompressed(const sensor_msgs::CompressedImage& image, cv
                                          image.data.size(), " bytes) is not a decodable jpeg/png"));
   }
   return ConversionStatus::success();
-}
-
-ConversionStatus rgbFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& rgb) {
-  cv::Mat bgr;
-  const ConversionStatus status = bgrFromCompressed(image, bgr);
-  if (status.ok()) cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  return status;
 }
 
 ConversionStatus intrinsicsFromCameraInfo(const sensor_msgs::CameraInfo& info,

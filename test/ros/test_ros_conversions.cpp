@@ -274,7 +274,7 @@ TEST(ImageConversion, EveryEncodingGivesRgbAndBgrHonouringStep) {
                                          {enc::MONO8, 1, 0, 0, 0}}) {
     const sensor_msgs::Image image = makeImage(c.encoding, c.channels, 7, 5, 3);
     cv::Mat rgb, bgr;
-    ASSERT_TRUE(rc::rgbFromImage(image, rgb).ok()) << c.encoding;
+    ASSERT_TRUE(rc::colourFromImage(image, rc::ChannelOrder::kRgb, rgb).ok()) << c.encoding;
     ASSERT_TRUE(rc::colourFromImage(image, rc::ChannelOrder::kBgr, bgr).ok()) << c.encoding;
     for (const cv::Mat* out : {&rgb, &bgr}) {
       ASSERT_EQ(out->type(), CV_8UC3);
@@ -299,7 +299,7 @@ TEST(ImageConversion, EveryEncodingGivesRgbAndBgrHonouringStep) {
 TEST(ImageConversion, AnEncodingInTheAskedOrderIsWrappedWithoutCopy) {
   const sensor_msgs::Image image = makeImage(enc::RGB8, 3, 4, 3, 2);
   cv::Mat rgb;
-  ASSERT_TRUE(rc::rgbFromImage(image, rgb).ok());
+  ASSERT_TRUE(rc::colourFromImage(image, rc::ChannelOrder::kRgb, rgb).ok());
   EXPECT_EQ(rgb.data, image.data.data());
   EXPECT_EQ(rgb.step[0], image.step);
   const sensor_msgs::Image bgr8 = makeImage(enc::BGR8, 3, 4, 3, 2);
@@ -313,15 +313,16 @@ TEST(ImageConversion, RejectsBadEncodingStepAndSize) {
   sensor_msgs::Image image = makeImage(enc::BGR8, 3, 4, 3, 0);
   cv::Mat rgb;
   image.encoding = enc::TYPE_16UC1;
-  EXPECT_EQ(rc::rgbFromImage(image, rgb).fault, InputFault::kImageEncoding);
+  EXPECT_EQ(rc::colourFromImage(image, rc::ChannelOrder::kRgb, rgb).fault,
+            InputFault::kImageEncoding);
   image.encoding = "bayer_rggb8";
   EXPECT_EQ(rc::validateImage(image).fault, InputFault::kImageEncoding);
   image.encoding = enc::BGR8;
   image.step = 11;
-  EXPECT_EQ(rc::rgbFromImage(image, rgb).fault, InputFault::kImageStep);
+  EXPECT_EQ(rc::colourFromImage(image, rc::ChannelOrder::kRgb, rgb).fault, InputFault::kImageStep);
   image.step = 12;
   image.data.pop_back();
-  EXPECT_EQ(rc::rgbFromImage(image, rgb).fault, InputFault::kImageStep);
+  EXPECT_EQ(rc::colourFromImage(image, rc::ChannelOrder::kRgb, rgb).fault, InputFault::kImageStep);
   image.width = 0;
   EXPECT_EQ(rc::validateImage(image).fault, InputFault::kImageEmpty);
 }
@@ -334,19 +335,19 @@ TEST(ImageConversion, DecodesPngAndJpegAndRejectsGarbage) {
     sensor_msgs::CompressedImage msg;
     msg.format = ext;
     msg.data = bytes;
-    cv::Mat rgb;
-    ASSERT_TRUE(rc::rgbFromCompressed(msg, rgb).ok()) << ext;
-    ASSERT_EQ(rgb.size(), bgr.size());
-    EXPECT_NEAR(rgb.at<cv::Vec3b>(2, 3)[0], 240, 3) << ext;
-    EXPECT_NEAR(rgb.at<cv::Vec3b>(2, 3)[2], 10, 3) << ext;
+    cv::Mat decoded;
+    ASSERT_TRUE(rc::bgrFromCompressed(msg, decoded).ok()) << ext;
+    ASSERT_EQ(decoded.size(), bgr.size());
+    EXPECT_NEAR(decoded.at<cv::Vec3b>(2, 3)[2], 240, 3) << ext;  // R
+    EXPECT_NEAR(decoded.at<cv::Vec3b>(2, 3)[0], 10, 3) << ext;   // B
   }
   sensor_msgs::CompressedImage garbage;
   garbage.format = "jpeg";
   garbage.data = {1, 2, 3, 4};
-  cv::Mat rgb;
-  EXPECT_EQ(rc::rgbFromCompressed(garbage, rgb).fault, InputFault::kImageDecode);
+  cv::Mat decoded;
+  EXPECT_EQ(rc::bgrFromCompressed(garbage, decoded).fault, InputFault::kImageDecode);
   garbage.data.clear();
-  EXPECT_EQ(rc::rgbFromCompressed(garbage, rgb).fault, InputFault::kImageDecode);
+  EXPECT_EQ(rc::bgrFromCompressed(garbage, decoded).fault, InputFault::kImageDecode);
 }
 
 TEST(FrameImage, RawIsValidatedAndConvertedOnlyOnDemand) {

@@ -104,12 +104,9 @@ enum class ChannelOrder { kRgb, kBgr };
 /// kBgr) is wrapped without a copy (the Mat points into `image.data`, which must outlive it);
 /// other encodings are converted into a new buffer. Honours `step`.
 ConversionStatus colourFromImage(const sensor_msgs::Image& image, ChannelOrder order, cv::Mat& out);
-/// colourFromImage in RGB order.
-ConversionStatus rgbFromImage(const sensor_msgs::Image& image, cv::Mat& rgb);
 
-/// Decodes a jpeg or png CompressedImage into BGR / RGB (CV_8UC3).
+/// Decodes a jpeg or png CompressedImage into BGR (CV_8UC3), OpenCV's order.
 ConversionStatus bgrFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& bgr);
-ConversionStatus rgbFromCompressed(const sensor_msgs::CompressedImage& image, cv::Mat& rgb);
 
 /// The image of a synchronized set as depth completion needs it: header and size at once, the
 /// pixels on demand: RGB for the coloured cloud (depth/points), BGR for the models that read the
