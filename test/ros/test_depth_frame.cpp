@@ -39,6 +39,14 @@ double largestDifference(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b)
   return largest;
 }
 
+/// The scene's points as the node reads them: float32 in the cloud, then into the camera frame.
+std::vector<Eigen::Vector3d> pointsAsTheNodeReadsThem() {
+  std::vector<Eigen::Vector3d> points;
+  for (const Eigen::Vector3d& p : scene::sensorPoints())
+    points.push_back(scene::sensorToCamera() * p.cast<float>().cast<double>());
+  return points;
+}
+
 std_msgs::Header cameraHeader(const ros::Time& stamp) {
   std_msgs::Header header;
   header.frame_id = synthetic_scene::kCameraFrame;
@@ -148,9 +156,7 @@ TEST_F(DepthFrame, CompletesTheSceneAsTheCoreDoes) {
   EXPECT_EQ(result.reading.step, 1u);
   EXPECT_EQ(result.intrinsics.fx, scene::kFx);
 
-  std::vector<Eigen::Vector3d> points;
-  for (const Eigen::Vector3d& p : scene::sensorPoints())
-    points.push_back(scene::sensorToCamera() * p.cast<float>().cast<double>());
+  const std::vector<Eigen::Vector3d> points = pointsAsTheNodeReadsThem();
   const mm::DepthMap want = mm::DepthCompleter(settings_.params.threads)
                                 .complete(points, result.intrinsics,
                                           {{scene::kHeight, scene::kWidth}, 4}, settings_.params);
@@ -276,9 +282,7 @@ TEST_F(DepthFrame, AModelWithAGroundPlaneTakesItFromTfAndTheCoreComputesTheSame)
   const mm::DepthMap got = workspace_.depth();
   EXPECT_EQ(got.stats.ground_source, "pose");
 
-  std::vector<Eigen::Vector3d> points;
-  for (const Eigen::Vector3d& p : scene::sensorPoints())
-    points.push_back(scene::sensorToCamera() * p.cast<float>().cast<double>());
+  const std::vector<Eigen::Vector3d> points = pointsAsTheNodeReadsThem();
   mm::DepthCompletionParams params = settings_.params;
   mm::applyCameraPose(camera_to_ground.matrix(), params.ground);
   const mm::DepthMap want =
@@ -323,9 +327,7 @@ TEST_F(DepthFrame, TheImageReachesTheModelsInTheCoresChannelOrder) {
   ASSERT_TRUE(result.completed()) << result.status.reason << result.error;
   const mm::DepthMap got = workspace_.depth();
 
-  std::vector<Eigen::Vector3d> points;
-  for (const Eigen::Vector3d& p : scene::sensorPoints())
-    points.push_back(scene::sensorToCamera() * p.cast<float>().cast<double>());
+  const std::vector<Eigen::Vector3d> points = pointsAsTheNodeReadsThem();
   const cv::Mat bgr =
       cv::Mat(scene::kHeight, scene::kWidth, CV_8UC3, set_.image.data.data(), set_.image.step)
           .clone();
