@@ -25,12 +25,16 @@ void DepthCompletionDiagnostics::countFault(rc::InputFault fault) {
   counters_.update([fault](Counts& counts) { ++counts.faults[static_cast<int>(fault)]; });
 }
 
-void DepthCompletionDiagnostics::countPublished(double latency_ms, double compute_ms) {
+void DepthCompletionDiagnostics::countPublished(double latency_ms, const DepthMapStats& stats) {
   counters_.update([&](Counts& counts) {
     ++counts.published;
     counts.latency_sum_ms += latency_ms;
     counts.latency_max_ms = std::max(counts.latency_max_ms, latency_ms);
-    counts.compute_sum_ms += compute_ms;
+    counts.compute_sum_ms += stats.compute_ms;
+    counts.ground_source = stats.ground_source;
+    counts.ground_camera_height = stats.ground_camera_height;
+    counts.ground_pitch_deg = stats.ground_pitch_deg;
+    counts.ground_roll_deg = stats.ground_roll_deg;
   });
 }
 
@@ -70,6 +74,14 @@ void DepthCompletionDiagnostics::report(diagnostic_updater::DiagnosticStatusWrap
     status.add("subsampled clouds", total.subsampled);
     status.add("largest subsampling step", total.max_subsample_step);
     status.add("subscribed to inputs", subscribed ? "yes" : "no (no output subscriber)");
+    // The latest frame's plane (totals keep it across windows): a user checks it against the
+    // vehicle, above all when it comes from the parameters.
+    if (!total.ground_source.empty()) {
+      status.add("ground plane source", total.ground_source);
+      status.addf("ground plane camera height (m)", "%.2f", total.ground_camera_height);
+      status.addf("ground plane pitch (deg)", "%.2f", total.ground_pitch_deg);
+      status.addf("ground plane roll (deg)", "%.2f", total.ground_roll_deg);
+    }
     if (rejected_window > 0) {
       status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
                       "%lu input sets dropped in the last %.1f s (see 'rejected ...')",

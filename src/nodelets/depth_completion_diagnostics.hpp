@@ -7,6 +7,7 @@
 #include <memory>
 #include <string>
 
+#include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/ros/conversions.hpp"
 #include "multimodal_nvs/ros/frame_synchronizer.hpp"
 #include "periodic_diagnostics.hpp"
@@ -22,7 +23,9 @@ class DepthCompletionDiagnostics {
   void countInput(FrameInput input);
   void countSet();
   void countFault(ros_conversions::InputFault fault);
-  void countPublished(double latency_ms, double compute_ms);
+  /// A published depth map: its latency and compute time, and (ground_gp, image_guided) the
+  /// ground plane it used, reported as the latest frame's.
+  void countPublished(double latency_ms, const DepthMapStats& stats);
   /// Simulated time or the input stamps went back (a bag restarted): the node started over.
   void countTimeJump();
   /// A cloud larger than max_points was read every `step`-th point (processed, not rejected).
@@ -42,6 +45,9 @@ class DepthCompletionDiagnostics {
     double latency_sum_ms = 0.0, latency_max_ms = 0.0, compute_sum_ms = 0.0;
     unsigned long time_jumps = 0, subsampled = 0;
     std::size_t max_subsample_step = 0;
+    /// The latest published frame's ground plane (empty source: no model with a ground plane).
+    std::string ground_source;
+    double ground_camera_height = -1.0, ground_pitch_deg = 0.0, ground_roll_deg = 0.0;
   };
 
   WindowedCounters<Counts> counters_;

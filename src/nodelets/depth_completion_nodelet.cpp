@@ -264,10 +264,25 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
       points_pub_.publish(cloud);
     }
     const double latency_ms = (ros::Time::now() - receipt).toSec() * 1e3;
-    diagnostics_.countPublished(latency_ms, depth.stats.compute_ms);
+    diagnostics_.countPublished(latency_ms, depth.stats);
+    adviseOnGroundParameters(depth.stats, settings.params.model);
     if (stats_pub_.getNumSubscribers() > 0) {
       stats_pub_.publish(rc::statsMessage(depth.stats, header, latency_ms));
     }
+  }
+
+  /// Once per node: a ground plane from the parameters is a vehicle's constants (config/radar.yaml
+  /// holds View-of-Delft's camera), which silently misplace the road on another vehicle.
+  void adviseOnGroundParameters(const DepthMapStats& stats, DepthModel model) {
+    if (advised_ground_parameters_ || stats.ground_source != "parameters") return;
+    advised_ground_parameters_ = true;
+    NODELET_WARN(
+        "%s: the ground plane comes from the parameters: the camera %.2f m above the road, "
+        "looking %.1f deg above it (ground_camera_height, ground_pitch_deg; config/radar.yaml's "
+        "are View-of-Delft's camera). If they are not your camera's, set ground_frame to a z-up "
+        "frame whose z = 0 is the road (REP 120 base_footprint) or set both. Shown once; "
+        "depth/stats and the diagnostics report the plane of every frame.",
+        toString(model), stats.ground_camera_height, stats.ground_pitch_deg);
   }
 
   /// Counts and logs a rejected input, throttled per reason (one recurring fault must not hide
@@ -292,6 +307,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   // Static parameters (read once in onInit).
   SyncSettings sync_settings_;
   bool compressed_input_ = false;
+  bool advised_ground_parameters_ = false;  // frame callback only
   rc::CloudToCamera cloud_to_camera_;
   rc::GroundFromTf ground_from_tf_;
   int max_points_ = 0;  // < 0: no limit, 0: automatic (pointCap), > 0: that many

@@ -279,6 +279,9 @@ double computeFrame(const Options& o, const FrameJob& job, const LoadedFrame& f,
     json["ground_scan_line_share"] = mm::json::number(s.ground_scan_line_share, 4);
     json["ground_hidden_returns"] = s.ground_hidden_returns;
     json["ground_edge_ratio"] = mm::json::number(s.ground_edge_ratio, 4);
+    json["ground_camera_height"] = mm::json::number(s.ground_camera_height, 4);
+    json["ground_pitch_deg"] = mm::json::number(s.ground_pitch_deg, 4);
+    json["ground_roll_deg"] = mm::json::number(s.ground_roll_deg, 4);
   }
   json["shift"] = mm::json::number(s.shift, 6);
   json["threads"] = completer.threads();

@@ -192,6 +192,8 @@ struct FrameResult {
   double ground_scan_line_share = -1.0;    // returns along scan lines (-1: not needed)
   long long ground_hidden_returns = -1;    // returns left out as hidden (-1: not filtered)
   double ground_edge_ratio = -1.0;         // the dense mode's surface step (-1: another mode)
+  double ground_camera_height = -1.0;      // the plane used: camera height (-1: no plane),
+  double ground_pitch_deg = 0.0, ground_roll_deg = 0.0;  // optical axis above it, roll
   std::vector<RetentionResult> retention;
 };
 
@@ -426,6 +428,9 @@ int run(int argc, char** argv) {
       res.ground_scan_line_share = map.stats.ground_scan_line_share;
       res.ground_hidden_returns = map.stats.ground_hidden_returns;
       res.ground_edge_ratio = map.stats.ground_edge_ratio;
+      res.ground_camera_height = map.stats.ground_camera_height;
+      res.ground_pitch_deg = map.stats.ground_pitch_deg;
+      res.ground_roll_deg = map.stats.ground_roll_deg;
       depth.swap(map.depth);
       variance.swap(map.variance);
       predicted.swap(map.valid);
@@ -519,6 +524,9 @@ int run(int argc, char** argv) {
       per_frame.back()["ground_scan_line_share"] = mm::json::number(f.ground_scan_line_share);
       per_frame.back()["ground_hidden_returns"] = f.ground_hidden_returns;
       per_frame.back()["ground_edge_ratio"] = mm::json::number(f.ground_edge_ratio, 4);
+      per_frame.back()["ground_camera_height"] = mm::json::number(f.ground_camera_height, 4);
+      per_frame.back()["ground_pitch_deg"] = mm::json::number(f.ground_pitch_deg, 4);
+      per_frame.back()["ground_roll_deg"] = mm::json::number(f.ground_roll_deg, 4);
     }
     per_frame.back()["retention"] = retention;
   }

@@ -281,6 +281,10 @@ TEST_F(DepthFrame, AModelWithAGroundPlaneTakesItFromTfAndTheCoreComputesTheSame)
   ASSERT_TRUE(result.completed()) << result.status.reason << result.error;
   const mm::DepthMap got = workspace_.depth();
   EXPECT_EQ(got.stats.ground_source, "pose");
+  // The stats report the plane that ran (depth/stats, diagnostics).
+  EXPECT_NEAR(got.stats.ground_camera_height, 1.7, 1e-6);
+  EXPECT_NEAR(got.stats.ground_pitch_deg, 5.0, 1e-6);
+  EXPECT_NEAR(got.stats.ground_roll_deg, 0.0, 1e-6);
 
   const std::vector<Eigen::Vector3d> points = pointsAsTheNodeReadsThem();
   mm::DepthCompletionParams params = settings_.params;
@@ -294,6 +298,9 @@ TEST_F(DepthFrame, AModelWithAGroundPlaneTakesItFromTfAndTheCoreComputesTheSame)
   // The parameters' plane (1.3 m, level) gives another depth: the plane did reach the model.
   ASSERT_TRUE(complete().completed());
   EXPECT_EQ(workspace_.depth().stats.ground_source, "parameters");
+  EXPECT_NEAR(workspace_.depth().stats.ground_camera_height, settings_.params.ground.camera_height,
+              1e-9);
+  EXPECT_NEAR(workspace_.depth().stats.ground_pitch_deg, 0.0, 1e-9);
   EXPECT_NE(workspace_.depth().depth, got.depth);
 }
 

@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -27,6 +28,7 @@
 #include <vector>
 
 #include "child_processes.hpp"
+#include "rostest_helpers.hpp"
 
 #ifndef MMNVS_TOOL_DIR
 #error "MMNVS_TOOL_DIR must point at the devel space's lib/multimodal_nvs"
@@ -54,6 +56,7 @@ struct Outputs {
   std::vector<sensor_msgs::CameraInfoConstPtr> depth_info, conditioning_info;
   std::vector<sensor_msgs::PointCloud2ConstPtr> points, filtered;
   std::vector<multimodal_nvs::DepthCompletionStatsConstPtr> stats;
+  std::map<std::string, std::string> depth_diagnostics;  ///< the latest report's key/values
 };
 
 template <class Msg>
@@ -116,6 +119,8 @@ class PipelineTest : public ::testing::Test {
         collect(nh, "conditioning/mask", o, &Outputs::conditioning_mask)};
     if (!filtered_topic_.empty())
       subscribers_->push_back(collect(nh, filtered_topic_, o, &Outputs::filtered));
+    diagnostics_sub_ = new ros::Subscriber(rostest_helpers::subscribeDiagnostics(
+        nh, {"depth completion"}, o.mutex, o.depth_diagnostics));
     spinner_ = new ros::AsyncSpinner(1);
     spinner_->start();
 
@@ -151,6 +156,10 @@ class PipelineTest : public ::testing::Test {
     const ros::WallTime tail = ros::WallTime::now() + ros::WallDuration(10.0);
     while (ros::WallTime::now() < tail && !allFrames())
       ros::WallDuration(0.05).sleep();
+    // The diagnostics (every 0.5 s of wall time) of a report after the last frame.
+    const ros::WallTime report = ros::WallTime::now() + ros::WallDuration(1.5);
+    while (ros::WallTime::now() < report)
+      ros::WallDuration(0.05).sleep();
     ros::WallDuration(0.2).sleep();
     spinner_->stop();
   }
@@ -172,6 +181,7 @@ class PipelineTest : public ::testing::Test {
     }
     delete spinner_;
     delete subscribers_;
+    delete diagnostics_sub_;
     delete outputs_;
     std::error_code ignored;
     if (!dir_.empty()) fs::remove_all(dir_, ignored);
@@ -182,6 +192,7 @@ class PipelineTest : public ::testing::Test {
   static pid_t player_;
   static Outputs* outputs_;
   static std::vector<ros::Subscriber>* subscribers_;
+  static ros::Subscriber* diagnostics_sub_;
   static ros::AsyncSpinner* spinner_;
 };
 
@@ -191,6 +202,7 @@ double PipelineTest::retain_percent_ = 0.0;
 pid_t PipelineTest::player_ = -1;
 Outputs* PipelineTest::outputs_ = nullptr;
 std::vector<ros::Subscriber>* PipelineTest::subscribers_ = nullptr;
+ros::Subscriber* PipelineTest::diagnostics_sub_ = nullptr;
 ros::AsyncSpinner* PipelineTest::spinner_ = nullptr;
 
 TEST_F(PipelineTest, EveryOutputArrives) {
@@ -298,6 +310,23 @@ TEST_F(PipelineTest, DepthComesFromTheFilteredCloud) {
   }
 }
 
+TEST_F(PipelineTest, DiagnosticsReportTheGroundPlaneOfTheLatestFrame) {
+  const Outputs& o = *outputs_;
+  ASSERT_FALSE(o.stats.empty());
+  const auto& last = *o.stats.back();
+  const auto value = [&](const std::string& key) {
+    const auto it = o.depth_diagnostics.find(key);
+    return it == o.depth_diagnostics.end() ? std::string("(missing)") : it->second;
+  };
+  EXPECT_EQ(value("ground plane source"), last.ground_source);
+  char height[32], pitch[32];
+  std::snprintf(height, sizeof height, "%.2f", last.ground_camera_height);
+  std::snprintf(pitch, sizeof pitch, "%.2f", last.ground_pitch_deg);
+  EXPECT_EQ(value("ground plane camera height (m)"), height);
+  EXPECT_EQ(value("ground plane pitch (deg)"), pitch);
+  EXPECT_NE(value("ground plane roll (deg)"), "(missing)");
+}
+
 TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
   const Outputs& o = *outputs_;
   ASSERT_FALSE(o.stats.empty());
@@ -319,6 +348,11 @@ TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
                 stats->ground_mode == "sparse_tiled")
         << stats->ground_mode;
     EXPECT_FALSE(stats->ground_source.empty());
+    // The synthetic camera is level, 1.3 m above the road: the plane from the parameters
+    // (demo_synthetic.yaml, radar) or fitted to the returns (LiDAR) is that one.
+    EXPECT_NEAR(stats->ground_camera_height, 1.3, 0.1) << stats->ground_source;
+    EXPECT_NEAR(stats->ground_pitch_deg, 0.0, 1.0) << stats->ground_source;
+    EXPECT_NEAR(stats->ground_roll_deg, 0.0, 1.0) << stats->ground_source;
     if (stats->ground_mode != "dense") {
       EXPECT_EQ(stats->ground_hidden_returns, -1);
       EXPECT_EQ(stats->ground_edge_ratio, -1.0f);

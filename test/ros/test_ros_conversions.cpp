@@ -399,6 +399,9 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   stats.ground_scan_line_share = 0.75;
   stats.ground_hidden_returns = 1202;
   stats.ground_edge_ratio = 0.24;
+  stats.ground_camera_height = 1.62;
+  stats.ground_pitch_deg = -0.45;
+  stats.ground_roll_deg = 1.5;
   std_msgs::Header header;
   header.stamp = ros::Time(5.0);
   header.frame_id = "camera";
@@ -417,6 +420,9 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   EXPECT_FLOAT_EQ(message->ground_scan_line_share, 0.75f);
   EXPECT_EQ(message->ground_hidden_returns, 1202);
   EXPECT_FLOAT_EQ(message->ground_edge_ratio, 0.24f);
+  EXPECT_FLOAT_EQ(message->ground_camera_height, 1.62f);
+  EXPECT_FLOAT_EQ(message->ground_pitch_deg, -0.45f);
+  EXPECT_FLOAT_EQ(message->ground_roll_deg, 1.5f);
 }
 
 TEST(StatsMessage, ModelsWithoutAGroundPlaneSayNoneRan) {
@@ -426,6 +432,7 @@ TEST(StatsMessage, ModelsWithoutAGroundPlaneSayNoneRan) {
   EXPECT_FLOAT_EQ(message->ground_scan_line_share, -1.0f);
   EXPECT_EQ(message->ground_hidden_returns, -1);
   EXPECT_FLOAT_EQ(message->ground_edge_ratio, -1.0f);
+  EXPECT_FLOAT_EQ(message->ground_camera_height, -1.0f);
 }
 
 sensor_msgs::CameraInfo makeInfo() {

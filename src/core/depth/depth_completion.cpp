@@ -125,6 +125,9 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
     stats.ground_scan_line_share = ground.scan_line_share;
     stats.ground_hidden_returns = ground.hidden_returns;
     stats.ground_edge_ratio = ground.edge_ratio;
+    stats.ground_camera_height = ground.plane.height;
+    stats.ground_pitch_deg = ground.plane.pitchDeg();
+    stats.ground_roll_deg = ground.plane.rollDeg();
   }
 
   // Valid as the reference defines it, then retention among the valid pixels. Full-image passes

@@ -305,6 +305,10 @@ TEST(GroundPlaneEstimate, DepthStatsReportSourceAndMode) {
   EXPECT_EQ(map.stats.ground_source, "returns");
   EXPECT_EQ(map.stats.ground_mode, "dense");
   EXPECT_GT(map.stats.ground_inlier_fraction, 0.5);
+  // The plane that ran: the road's, 1.7 m below a camera looking 4 deg up.
+  EXPECT_NEAR(map.stats.ground_camera_height, 1.7, 0.02);
+  EXPECT_NEAR(map.stats.ground_pitch_deg, 4.0, 0.2);
+  EXPECT_NEAR(map.stats.ground_roll_deg, 0.0, 0.2);
   params.model = mm::DepthModel::kNearest;
   EXPECT_EQ(completer.complete(roadScan(1.7, 4.0, 3, 0.0), smallCamera(), {smallImage(), 1}, params)
                 .stats.ground_mode,

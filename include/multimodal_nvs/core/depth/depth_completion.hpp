@@ -36,6 +36,11 @@ struct DepthMapStats {
   long long ground_hidden_returns = -1;
   /// ground_gp's dense mode: the depth step (relative) that separated surfaces (-1: another mode).
   double ground_edge_ratio = -1.0;
+  /// ground_gp and image_guided: the plane used, as the camera's height above it (m; -1 for the
+  /// other models), the optical axis's angle above it and the roll (degrees; GroundPlane).
+  double ground_camera_height = -1.0;
+  double ground_pitch_deg = 0.0;
+  double ground_roll_deg = 0.0;
 };
 
 /// Dense depth on the stride grid, in the reference's layout: depth in metres (camera z), -1 where

@@ -22,6 +22,13 @@ struct GroundPlane {
   /// (VoD's odomToCamera/mapToCamera poses).
   static GroundPlane fromCameraToWorld(const Eigen::Matrix4d& camera_to_world);
 
+  /// The optical axis's angle above the road plane, degrees (positive: looking up; the convention
+  /// of the ground_pitch_deg parameter).
+  double pitchDeg() const { return std::asin(std::clamp(up.z(), -1.0, 1.0)) * 180.0 / M_PI; }
+  /// The camera's roll about its optical axis, degrees: positive when world up leans towards the
+  /// image's +x (right).
+  double rollDeg() const { return std::atan2(up.x(), -up.y()) * 180.0 / M_PI; }
+
   /// Camera-z depth where the ray through normalised image point (x, y) = (X/Z, Y/Z) meets the
   /// ground, or +inf when the ray does not descend.
   double depthAlong(double x, double y) const {

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <opencv2/core.hpp>
 
 #include "core/scene_fixtures.hpp"
@@ -40,6 +41,28 @@ TEST(GroundPrior, LevelCameraSeesTheGroundAtHeightOverSlope) {
   EXPECT_NEAR(plane.height, 1.5, 1e-12);
   EXPECT_NEAR(plane.depthAlong(0.3, 0.1), 15.0, 1e-9);   // z = h / y
   EXPECT_TRUE(std::isinf(plane.depthAlong(0.0, -0.1)));  // above the horizon
+}
+
+TEST(GroundPrior, PitchAndRollOfAPoseComeBackInTheParametersConvention) {
+  Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();
+  Eigen::Matrix3d level;
+  level << 0, 0, 1, -1, 0, 0, 0, -1, 0;  // camera (x right, y down, z forward) in a z-up world
+  // Looking 6.8 deg up (about the camera's x axis), rolled 2 deg about the optical axis.
+  const double pitch = 6.8 * M_PI / 180.0, roll = 2.0 * M_PI / 180.0;
+  pose.block<3, 3>(0, 0) = level * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitX()).matrix() *
+                           Eigen::AngleAxisd(-roll, Eigen::Vector3d::UnitZ()).matrix();
+  pose(2, 3) = 1.45;
+  const mm::GroundPlane plane = mm::GroundPlane::fromCameraToWorld(pose);
+  EXPECT_NEAR(plane.pitchDeg(), 6.8, 1e-9);
+  EXPECT_NEAR(plane.rollDeg(), 2.0, 1e-9);
+  EXPECT_GT(plane.up.x(), 0.0);  // positive roll: world up leans towards the image's right
+  EXPECT_NEAR(plane.height, 1.45, 1e-12);
+  // The ground_pitch_deg parameter's plane (no roll) gives its angle back.
+  mm::GroundPlane from_parameter;
+  from_parameter.up = Eigen::Vector3d(0.0, -std::cos(pitch), std::sin(pitch));
+  EXPECT_NEAR(from_parameter.pitchDeg(), 6.8, 1e-9);
+  EXPECT_NEAR(from_parameter.rollDeg(), 0.0, 1e-12);
+  EXPECT_NEAR(mm::GroundPlane().pitchDeg(), 0.0, 1e-12);  // the default: a level camera
 }
 
 TEST(GroundPrior, PixelPriorIsGroundBelowTheHorizonAndFarAbove) {
