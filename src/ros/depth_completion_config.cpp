@@ -27,11 +27,8 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   p.max_neighbors = config.max_neighbors;
   p.approx_tile = config.approx_tile;
   p.threads = config.threads;
-  const double pitch = config.ground_pitch_deg * M_PI / 180.0;
   p.ground.camera_height = config.ground_camera_height;
-  p.ground.up_x = 0.0;  // an upward pitch tilts world-up towards the optical axis
-  p.ground.up_y = -std::cos(pitch);
-  p.ground.up_z = std::sin(pitch);
+  p.ground.setPitchDeg(config.ground_pitch_deg);
   p.ground.far_depth = config.ground_far_depth;
   p.ground.surface_k = config.ground_surface_k;
   p.ground.surface_rank = config.ground_surface_rank;
@@ -100,7 +97,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.approx_tile = p.approx_tile;
   config.threads = p.threads;
   config.ground_camera_height = p.ground.camera_height;
-  config.ground_pitch_deg = std::atan2(p.ground.up_z, -p.ground.up_y) * 180.0 / M_PI;
+  config.ground_pitch_deg = p.ground.pitchDeg();
   config.ground_far_depth = p.ground.far_depth;
   config.ground_surface_k = p.ground.surface_k;
   config.ground_surface_rank = p.ground.surface_rank;

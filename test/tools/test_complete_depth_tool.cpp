@@ -143,6 +143,43 @@ TEST(CompleteDepthTool, AScanWithNoUsablePointYieldsThePriorWithAWarning) {
     ASSERT_EQ(v, 625.0f);
 }
 
+// Without a pose the ground plane is --camera-height and --camera-pitch-deg (the node's
+// ground_camera_height and ground_pitch_deg), reported on the stats line; a frame's pose wins.
+TEST(CompleteDepthTool, WithoutAPoseTheGroundIsTheHeightAndPitchGivenAndAPoseWins) {
+  writeScene();
+  const std::string scan = "--points " + dir() + "cd_points.bin --calib " + dir() +
+                           "cd_calib.txt --image-size 120 160 --model ground_gp --output " + dir();
+  const auto level = runTool(scan + "cd_level");
+  const auto pitched = runTool(scan + "cd_pitched --camera-height 1.6 --camera-pitch-deg 5");
+  ASSERT_EQ(level.exit_code, 0) << level.output;
+  ASSERT_EQ(pitched.exit_code, 0) << pitched.output;
+  for (const char* field : {"\"ground_source\": \"parameters\"", "\"ground_camera_height\": 1.3,",
+                            "\"ground_pitch_deg\": 0,"}) {
+    EXPECT_NE(level.output.find(field), std::string::npos) << field << "\n" << level.output;
+  }
+  for (const char* field : {"\"ground_source\": \"parameters\"", "\"ground_camera_height\": 1.6,",
+                            "\"ground_pitch_deg\": 5,", "\"ground_roll_deg\": 0,"}) {
+    EXPECT_NE(pitched.output.find(field), std::string::npos) << field << "\n" << pitched.output;
+  }
+  EXPECT_NE(io::readNpy(dir() + "cd_level_depth.npy").data,
+            io::readNpy(dir() + "cd_pitched_depth.npy").data);
+  const auto steep = runTool(scan + "cd_steep --camera-pitch-deg 60");
+  EXPECT_EQ(steep.exit_code, 2) << steep.output;
+  EXPECT_NE(steep.output.find("--camera-pitch-deg"), std::string::npos) << steep.output;
+
+  // A synthetic frame has a pose (a level camera 1.3 m up): it overrides the options.
+  const std::string scene = dir() + "cd_pose_scene";
+  const auto made = multimodal_nvs::test::runTool(
+      "make_synthetic_scene", "--output " + scene + " --scale 0.1 --num-frames 1 --quiet");
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  const auto posed = runTool("--vod-root " + scene + " --frame 0 --model ground_gp --output " +
+                             dir() + "cd_posed --camera-height 1.6 --camera-pitch-deg 5");
+  ASSERT_EQ(posed.exit_code, 0) << posed.output;
+  EXPECT_NE(posed.output.find("\"ground_source\": \"pose\""), std::string::npos) << posed.output;
+  EXPECT_NE(posed.output.find("\"ground_camera_height\": 1.3"), std::string::npos) << posed.output;
+  EXPECT_EQ(posed.output.find("\"ground_pitch_deg\": 5,"), std::string::npos) << posed.output;
+}
+
 // Many frames in one process run as a pipeline (the next frame read while one is completed, the
 // previous one written meanwhile): the outputs equal one-frame runs, and a bad frame in the middle
 // ends the run with its file named after the frames before it are written, none after it.

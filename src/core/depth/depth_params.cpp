@@ -56,6 +56,17 @@ const char* toString(GroundPriorParams::Input input) {
   return "unknown";
 }
 
+void GroundPriorParams::setPitchDeg(double pitch_deg) {
+  const double pitch = pitch_deg * M_PI / 180.0;
+  up_x = 0.0;
+  up_y = -std::cos(pitch);
+  up_z = std::sin(pitch);
+}
+
+double GroundPriorParams::pitchDeg() const {
+  return std::atan2(up_z, -up_y) * 180.0 / M_PI;
+}
+
 GroundPriorParams::Input parseGroundInput(const std::string& name) {
   if (name == "auto") return GroundPriorParams::Input::kAuto;
   if (name == "sparse") return GroundPriorParams::Input::kSparse;

@@ -63,12 +63,18 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
   GroundPriorParams& g = p.ground;
   app.add_option("--ground-pose", o.ground_pose,
                  "VoD pose file giving the camera's height and tilt (default with --vod-root: the "
-                 "frame's pose when it exists; without a pose: --camera-height, level camera)")
+                 "frame's pose when it exists; without a pose: --camera-height and "
+                 "--camera-pitch-deg)")
       ->group(kGround);
   declarePoseKeyOption(app, o.pose_key, kGround, "that places the camera above the road");
   app.add_option("--camera-height", g.camera_height,
                  "camera height above the ground without a pose")
       ->check(positive())
+      ->group(kGround);
+  app.add_option("--camera-pitch-deg", o.camera_pitch_deg,
+                 "the optical axis's angle above the road without a pose (degrees, positive: "
+                 "looking up; the node's ground_pitch_deg)")
+      ->check(CLI::Range(-45.0, 45.0))
       ->group(kGround);
   app.add_option("--far-depth", g.far_depth, "prior depth without any support (0: median depth)")
       ->check(atLeast(0))
@@ -242,6 +248,7 @@ DepthCompletionParams depthModelParams(const DepthModelOptions& o) {
   p.model = named("--model", [&] { return parseDepthModel(o.model); });
   p.shift = named("--shift", [&] { return DepthShift::parse(o.shift); });
   p.ground.input = named("--ground-input", [&] { return parseGroundInput(o.ground_input); });
+  p.ground.setPitchDeg(o.camera_pitch_deg);  // a pose, applied afterwards, overrides it
   p.validate();
   return p;
 }

@@ -16,6 +16,7 @@ struct DepthModelOptions {
   std::string model = "local_gp_mle", shift = "median", ground_input = "auto";
   std::string ground_pose;
   std::string pose_key = io::odometryVodPoseKey();
+  double camera_pitch_deg = 0.0;  ///< without a pose (GroundPriorParams::setPitchDeg)
 };
 
 /// Declares --model, --radius-deg, the GP, kernel, shift, threshold, approximation, thread and

@@ -40,6 +40,12 @@ struct DepthShift {
 struct GroundPriorParams {
   double camera_height = 1.3;                  ///< metres
   double up_x = 0.0, up_y = -1.0, up_z = 0.0;  ///< world up in the camera frame
+  /// A camera without roll whose optical axis points `pitch_deg` above the road (positive: looking
+  /// up; the ground_pitch_deg parameter and the tools' --camera-pitch-deg): an upward pitch tilts
+  /// world up towards the optical axis.
+  void setPitchDeg(double pitch_deg);
+  /// The pitch of `up` (the inverse of setPitchDeg when there is no roll).
+  double pitchDeg() const;
   double far_depth = 0.0;    ///< prior where neither ground nor samples say more; 0: median
   int surface_k = 8;         ///< nearest-surface prior: samples considered per pixel
   int surface_rank = 2;      ///< ... and which smallest depth among them (1 = minimum)

@@ -57,11 +57,15 @@ TEST(GroundPrior, PitchAndRollOfAPoseComeBackInTheParametersConvention) {
   EXPECT_NEAR(plane.rollDeg(), 2.0, 1e-9);
   EXPECT_GT(plane.up.x(), 0.0);  // positive roll: world up leans towards the image's right
   EXPECT_NEAR(plane.height, 1.45, 1e-12);
-  // The ground_pitch_deg parameter's plane (no roll) gives its angle back.
-  mm::GroundPlane from_parameter;
-  from_parameter.up = Eigen::Vector3d(0.0, -std::cos(pitch), std::sin(pitch));
+  // The ground_pitch_deg parameter's plane (no roll) gives its angle back, and tilts world up
+  // towards the optical axis as the pose does.
+  mm::GroundPriorParams params;
+  params.setPitchDeg(6.8);
+  EXPECT_NEAR(params.pitchDeg(), 6.8, 1e-9);
+  const mm::GroundPlane from_parameter = mm::givenGroundPlane(params);
   EXPECT_NEAR(from_parameter.pitchDeg(), 6.8, 1e-9);
   EXPECT_NEAR(from_parameter.rollDeg(), 0.0, 1e-12);
+  EXPECT_NEAR(from_parameter.up.z(), plane.up.z(), 1e-9);  // a roll keeps the pitch
   EXPECT_NEAR(mm::GroundPlane().pitchDeg(), 0.0, 1e-12);  // the default: a level camera
 }
 
