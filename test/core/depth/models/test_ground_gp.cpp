@@ -66,7 +66,7 @@ TEST(GroundPrior, PitchAndRollOfAPoseComeBackInTheParametersConvention) {
   EXPECT_NEAR(from_parameter.pitchDeg(), 6.8, 1e-9);
   EXPECT_NEAR(from_parameter.rollDeg(), 0.0, 1e-12);
   EXPECT_NEAR(from_parameter.up.z(), plane.up.z(), 1e-9);  // a roll keeps the pitch
-  EXPECT_NEAR(mm::GroundPlane().pitchDeg(), 0.0, 1e-12);  // the default: a level camera
+  EXPECT_NEAR(mm::GroundPlane().pitchDeg(), 0.0, 1e-12);   // the default: a level camera
 }
 
 TEST(GroundPrior, PixelPriorIsGroundBelowTheHorizonAndFarAbove) {
