@@ -122,13 +122,15 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     stddev_color_pub_ = it_->advertise("depth/stddev_color", 1, image_cb, image_cb);
     points_pub_ = nh.advertise<sensor_msgs::PointCloud2>("depth/points", 1, topic_cb, topic_cb);
     stats_pub_ = nh.advertise<DepthCompletionStats>("depth/stats", 5, topic_cb, topic_cb);
+    ground_plane_pub_ =
+        nh.advertise<geometry_msgs::PolygonStamped>("depth/ground_plane", 5, topic_cb, topic_cb);
   }
 
   bool outputsHaveSubscribers() const {
     return depth_pub_.getNumSubscribers() > 0 || variance_pub_.getNumSubscribers() > 0 ||
            mask_pub_.getNumSubscribers() > 0 || depth_color_pub_.getNumSubscribers() > 0 ||
            stddev_color_pub_.getNumSubscribers() > 0 || points_pub_.getNumSubscribers() > 0 ||
-           stats_pub_.getNumSubscribers() > 0;
+           stats_pub_.getNumSubscribers() > 0 || ground_plane_pub_.getNumSubscribers() > 0;
   }
 
   // Lazy subscription (depth_image_proc's idiom): inputs follow the presence of output subscribers.
@@ -269,6 +271,10 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
     if (stats_pub_.getNumSubscribers() > 0) {
       stats_pub_.publish(rc::statsMessage(depth.stats, header, latency_ms));
     }
+    if (ground_plane_pub_.getNumSubscribers() > 0) {
+      if (const auto polygon = rc::groundPlanePolygon(depth.stats, header))
+        ground_plane_pub_.publish(polygon);
+    }
   }
 
   /// Once per node: a ground plane from the parameters is a vehicle's constants (config/radar.yaml
@@ -330,7 +336,7 @@ class DepthCompletionNodelet : public nodelet::Nodelet {
   bool subscribed_ = false;
   image_transport::CameraPublisher depth_pub_;
   image_transport::Publisher variance_pub_, mask_pub_, depth_color_pub_, stddev_color_pub_;
-  ros::Publisher points_pub_, stats_pub_;
+  ros::Publisher points_pub_, stats_pub_, ground_plane_pub_;
   // Output messages written again once their subscribers are done with them (frame callback only).
   RecycledMessage<sensor_msgs::Image> depth_msg_, variance_msg_, mask_msg_, depth_color_msg_,
       stddev_color_msg_;

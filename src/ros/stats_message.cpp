@@ -2,6 +2,8 @@
 
 #include <boost/make_shared.hpp>
 
+#include "multimodal_nvs/core/depth/ground_prior.hpp"
+
 namespace multimodal_nvs {
 namespace ros_conversions {
 
@@ -24,6 +26,26 @@ DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs:
   message->ground_camera_height = static_cast<float>(stats.ground_camera_height);
   message->ground_pitch_deg = static_cast<float>(stats.ground_pitch_deg);
   message->ground_roll_deg = static_cast<float>(stats.ground_roll_deg);
+  return message;
+}
+
+geometry_msgs::PolygonStampedPtr groundPlanePolygon(const DepthMapStats& stats,
+                                                    const std_msgs::Header& header) {
+  if (!(stats.ground_camera_height > 0.0)) return nullptr;
+  // Metres; the half-metre ends keep the edges between the lines of rviz's 1 m road grid (which
+  // a level camera's plane would otherwise lay them on, hidden).
+  constexpr double kNear = 2.5, kFar = 40.5, kHalfWidth = 9.5;
+  const GroundPlane plane = GroundPlane::fromAngles(stats.ground_camera_height,
+                                                    stats.ground_pitch_deg, stats.ground_roll_deg);
+  auto message = boost::make_shared<geometry_msgs::PolygonStamped>();
+  message->header = header;
+  for (const Eigen::Vector3d& corner : plane.patchCorners(kNear, kFar, kHalfWidth)) {
+    geometry_msgs::Point32 point;
+    point.x = static_cast<float>(corner.x());
+    point.y = static_cast<float>(corner.y());
+    point.z = static_cast<float>(corner.z());
+    message->polygon.points.push_back(point);
+  }
   return message;
 }
 

@@ -5,6 +5,7 @@
 // Every output must arrive with sane values: finite depth > 0 exactly where the mask is 255 and NaN
 // elsewhere, masks exactly {0, 255}, the cloud and the stats agreeing with the mask, conditioning
 // frames of the configured render size. Nothing is written outside a temporary directory.
+#include <geometry_msgs/PolygonStamped.h>
 #include <gtest/gtest.h>
 #include <multimodal_nvs/DepthCompletionStats.h>
 #include <ros/ros.h>
@@ -56,6 +57,7 @@ struct Outputs {
   std::vector<sensor_msgs::CameraInfoConstPtr> depth_info, conditioning_info;
   std::vector<sensor_msgs::PointCloud2ConstPtr> points, filtered;
   std::vector<multimodal_nvs::DepthCompletionStatsConstPtr> stats;
+  std::vector<geometry_msgs::PolygonStampedConstPtr> ground_plane;
   std::map<std::string, std::string> depth_diagnostics;  ///< the latest report's key/values
 };
 
@@ -114,6 +116,7 @@ class PipelineTest : public ::testing::Test {
         collect(nh, "depth/mask", o, &Outputs::mask),
         collect(nh, "depth/points", o, &Outputs::points),
         collect(nh, "depth/stats", o, &Outputs::stats),
+        collect(nh, "depth/ground_plane", o, &Outputs::ground_plane),
         collect(nh, "conditioning/image", o, &Outputs::conditioning),
         collect(nh, "conditioning/camera_info", o, &Outputs::conditioning_info),
         collect(nh, "conditioning/mask", o, &Outputs::conditioning_mask)};
@@ -167,9 +170,10 @@ class PipelineTest : public ::testing::Test {
   static bool allFrames() {
     std::lock_guard<std::mutex> lock(outputs_->mutex);
     const Outputs& o = *outputs_;
-    for (std::size_t n : {o.depth.size(), o.depth_info.size(), o.variance.size(), o.mask.size(),
-                          o.points.size(), o.stats.size(), o.conditioning.size(),
-                          o.conditioning_info.size(), o.conditioning_mask.size()})
+    for (std::size_t n :
+         {o.depth.size(), o.depth_info.size(), o.variance.size(), o.mask.size(), o.points.size(),
+          o.stats.size(), o.ground_plane.size(), o.conditioning.size(), o.conditioning_info.size(),
+          o.conditioning_mask.size()})
       if (n < std::size_t(kFrames)) return false;
     return true;
   }
@@ -214,6 +218,7 @@ TEST_F(PipelineTest, EveryOutputArrives) {
       {"depth/mask", o.mask.size()},
       {"depth/points", o.points.size()},
       {"depth/stats", o.stats.size()},
+      {"depth/ground_plane", o.ground_plane.size()},
       {"conditioning/image", o.conditioning.size()},
       {"conditioning/camera_info", o.conditioning_info.size()},
       {"conditioning/mask", o.conditioning_mask.size()}};
@@ -325,6 +330,23 @@ TEST_F(PipelineTest, DiagnosticsReportTheGroundPlaneOfTheLatestFrame) {
   EXPECT_EQ(value("ground plane camera height (m)"), height);
   EXPECT_EQ(value("ground plane pitch (deg)"), pitch);
   EXPECT_NE(value("ground plane roll (deg)"), "(missing)");
+}
+
+TEST_F(PipelineTest, TheGroundPlanePolygonIsTheSyntheticRoad) {
+  const Outputs& o = *outputs_;
+  ASSERT_EQ(o.ground_plane.size(), o.stats.size());  // both configs' models have a ground plane
+  for (const auto& polygon : o.ground_plane) {
+    SCOPED_TRACE("depth/ground_plane at " + std::to_string(polygon->header.stamp.toSec()));
+    ASSERT_TRUE(withStamp(o.stats, polygon->header.stamp));
+    EXPECT_EQ(polygon->header.frame_id, o.depth.front()->header.frame_id);
+    ASSERT_EQ(polygon->polygon.points.size(), 4u);
+    for (const auto& corner : polygon->polygon.points) {
+      // The level synthetic camera 1.3 m above the road: y (down) is the height everywhere (the
+      // fitted plane's tilt, within 1 deg, moves the far corners by at most 0.7 m).
+      EXPECT_NEAR(corner.y, 1.3, 0.1 + 0.0175 * corner.z);
+      EXPECT_GE(corner.z, 1.5);
+    }
+  }
 }
 
 TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {

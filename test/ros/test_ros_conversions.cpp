@@ -425,6 +425,30 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   EXPECT_FLOAT_EQ(message->ground_roll_deg, 1.5f);
 }
 
+TEST(StatsMessage, TheGroundPlanePolygonIsTheRoadOfTheStatsInTheImagesFrame) {
+  mm::DepthMapStats stats;
+  std_msgs::Header header;
+  header.stamp = ros::Time(7.0);
+  header.frame_id = "camera_optical";
+  EXPECT_FALSE(rc::groundPlanePolygon(stats, header));  // a model without a ground plane
+  stats.ground_camera_height = 1.3;
+  const auto level = rc::groundPlanePolygon(stats, header);
+  ASSERT_TRUE(level);
+  EXPECT_EQ(level->header.frame_id, "camera_optical");
+  EXPECT_EQ(level->header.stamp, header.stamp);
+  ASSERT_EQ(level->polygon.points.size(), 4u);
+  for (const auto& p : level->polygon.points)
+    EXPECT_FLOAT_EQ(p.y, 1.3f);  // 1.3 m below a level camera (y down)
+  EXPECT_FLOAT_EQ(level->polygon.points[0].z, 2.5f);
+  EXPECT_FLOAT_EQ(level->polygon.points[2].z, 40.5f);
+  EXPECT_FLOAT_EQ(level->polygon.points[0].x, -9.5f);
+  // Pitched up: the road falls away below the optical axis with the distance.
+  stats.ground_pitch_deg = 6.8;
+  const auto pitched = rc::groundPlanePolygon(stats, header);
+  ASSERT_TRUE(pitched);
+  EXPECT_GT(pitched->polygon.points[2].y, pitched->polygon.points[1].y);
+}
+
 TEST(StatsMessage, ModelsWithoutAGroundPlaneSayNoneRan) {
   const auto message = rc::statsMessage(mm::DepthMapStats{}, std_msgs::Header{}, 1.0);
   EXPECT_EQ(message->ground_source, "");

@@ -4,6 +4,7 @@
 #include "multimodal_nvs/core/depth/angular_bins.hpp"
 #include "multimodal_nvs/core/depth/look_alike_fill.hpp"
 
+#include <Eigen/Geometry>  // cross
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -17,6 +18,24 @@ GroundPlane GroundPlane::fromCameraToWorld(const Eigen::Matrix4d& camera_to_worl
   plane.up = camera_to_world.block<1, 3>(2, 0).transpose().normalized();
   plane.height = camera_to_world(2, 3);
   return plane;
+}
+
+GroundPlane GroundPlane::fromAngles(double height, double pitch_deg, double roll_deg) {
+  const double pitch = pitch_deg * M_PI / 180.0, roll = roll_deg * M_PI / 180.0;
+  GroundPlane plane;
+  plane.up = {std::cos(pitch) * std::sin(roll), -std::cos(pitch) * std::cos(roll), std::sin(pitch)};
+  plane.height = height;
+  return plane;
+}
+
+std::array<Eigen::Vector3d, 4> GroundPlane::patchCorners(double near, double far,
+                                                         double half_width) const {
+  const Eigen::Vector3d optical_axis = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d forward = (optical_axis - optical_axis.dot(up) * up).normalized();
+  const Eigen::Vector3d right = forward.cross(up);  // camera +x for a level camera
+  const Eigen::Vector3d foot = -height * up;        // the road below the camera
+  return {foot + near * forward - half_width * right, foot + near * forward + half_width * right,
+          foot + far * forward + half_width * right, foot + far * forward - half_width * right};
 }
 
 Eigen::Vector2d normalisedFromAngles(double azimuth_deg, double elevation_deg) {

@@ -2,6 +2,7 @@
 // The priors of ground_gp: the ground plane and the nearest surface seen along each pixel ray.
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -21,6 +22,16 @@ struct GroundPlane {
   /// From a camera-to-world pose whose world z axis points up and whose z = 0 is the ground
   /// (VoD's odomToCamera/mapToCamera poses).
   static GroundPlane fromCameraToWorld(const Eigen::Matrix4d& camera_to_world);
+
+  /// The plane of a camera `height` m above the road, its optical axis `pitch_deg` above it and
+  /// rolled `roll_deg` (the conventions of pitchDeg and rollDeg, whose inverse this is).
+  static GroundPlane fromAngles(double height, double pitch_deg, double roll_deg);
+
+  /// Corners of a rectangle of the road in the camera frame, for display: from `near` to `far`
+  /// metres ahead along the road (the optical axis projected onto the plane) and `half_width`
+  /// metres to either side; near-left, near-right, far-right, far-left. Needs an optical axis
+  /// that is not along up (any camera that sees the road).
+  std::array<Eigen::Vector3d, 4> patchCorners(double near, double far, double half_width) const;
 
   /// The optical axis's angle above the road plane, degrees (positive: looking up; the convention
   /// of the ground_pitch_deg parameter).

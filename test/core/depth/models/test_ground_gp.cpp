@@ -69,6 +69,26 @@ TEST(GroundPrior, PitchAndRollOfAPoseComeBackInTheParametersConvention) {
   EXPECT_NEAR(mm::GroundPlane().pitchDeg(), 0.0, 1e-12);   // the default: a level camera
 }
 
+TEST(GroundPrior, APlaneFromItsAnglesGivesThemBackAndItsPatchLiesOnItAhead) {
+  const mm::GroundPlane plane = mm::GroundPlane::fromAngles(1.6, -0.8, 2.5);
+  EXPECT_NEAR(plane.height, 1.6, 1e-12);
+  EXPECT_NEAR(plane.pitchDeg(), -0.8, 1e-9);
+  EXPECT_NEAR(plane.rollDeg(), 2.5, 1e-9);
+  EXPECT_NEAR(plane.up.norm(), 1.0, 1e-12);
+  const auto corners = plane.patchCorners(2.0, 40.0, 10.0);
+  for (const Eigen::Vector3d& corner : corners) {
+    EXPECT_NEAR(plane.up.dot(corner), -1.6, 1e-9);  // on the road
+    EXPECT_GT(corner.z(), 1.9);                     // ahead of the camera
+  }
+  EXPECT_NEAR((corners[1] - corners[0]).norm(), 20.0, 1e-9);  // 10 m to either side
+  EXPECT_NEAR((corners[2] - corners[1]).norm(), 38.0, 1e-9);  // 2 to 40 m ahead
+  EXPECT_LT(corners[0].x(), corners[1].x());                  // left, then right
+  // A level camera 1.3 m up: the road's rectangle in camera coordinates, y down.
+  const auto level = mm::GroundPlane::fromAngles(1.3, 0.0, 0.0).patchCorners(2.0, 40.0, 10.0);
+  EXPECT_TRUE(level[0].isApprox(Eigen::Vector3d(-10.0, 1.3, 2.0), 1e-12));
+  EXPECT_TRUE(level[2].isApprox(Eigen::Vector3d(10.0, 1.3, 40.0), 1e-12));
+}
+
 TEST(GroundPrior, PixelPriorIsGroundBelowTheHorizonAndFarAbove) {
   const mm::PixelAngleGrid angles(smallCamera(), {smallImage(), 1});
   mm::GroundPlane plane;
