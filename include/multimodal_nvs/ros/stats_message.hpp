@@ -1,6 +1,7 @@
 #pragma once
-// The depth/stats and depth/ground_plane messages of one completed frame. Kept apart from conversions.hpp so that the
-// conversions need no generated message (the fuzz build compiles them without catkin).
+// The depth/stats and depth/ground_plane messages of one completed frame. Kept apart from
+// conversions.hpp so that the conversions need no generated message (the fuzz build compiles them
+// without catkin).
 #include <geometry_msgs/PolygonStamped.h>
 #include <multimodal_nvs/DepthCompletionStats.h>
 #include <std_msgs/Header.h>
