@@ -11,6 +11,7 @@
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
 #include "common/frame_options.hpp"
+#include "common/ground_stats_json.hpp"
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/colormap.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
@@ -272,17 +273,7 @@ double computeFrame(const Options& o, const FrameJob& job, const LoadedFrame& f,
   json["points_non_finite"] = s.points_non_finite;
   json["points_in_view"] = s.points_in_view;
   json["neighbour_sets"] = s.neighbour_sets;
-  if (!s.ground_mode.empty()) {  // ground_gp, image_guided: which plane and mode ran, and why
-    json["ground_source"] = s.ground_source;
-    json["ground_mode"] = s.ground_mode;
-    json["ground_inlier_fraction"] = mm::json::number(s.ground_inlier_fraction, 4);
-    json["ground_scan_line_share"] = mm::json::number(s.ground_scan_line_share, 4);
-    json["ground_hidden_returns"] = s.ground_hidden_returns;
-    json["ground_edge_ratio"] = mm::json::number(s.ground_edge_ratio, 4);
-    json["ground_camera_height"] = mm::json::number(s.ground_camera_height, 4);
-    json["ground_pitch_deg"] = mm::json::number(s.ground_pitch_deg, 4);
-    json["ground_roll_deg"] = mm::json::number(s.ground_roll_deg, 4);
-  }
+  mm::cli::addGroundStats(s, json);  // ground_gp, image_guided: which plane and mode ran
   json["shift"] = mm::json::number(s.shift, 6);
   json["threads"] = completer.threads();
   json["compute_ms"] = mm::json::number(times.front(), 6);

@@ -18,6 +18,7 @@
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
 #include "common/frame_options.hpp"
+#include "common/ground_stats_json.hpp"
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/json_output.hpp"
@@ -187,13 +188,7 @@ struct FrameResult {
   std::string gt_kind;
   std::size_t input_points = 0, input_in_view = 0, gt_points = 0;
   double runtime_ms = std::numeric_limits<double>::quiet_NaN();
-  std::string ground_source, ground_mode;  // ground_gp: its plane's source and its mode
-  double ground_inlier_fraction = 0.0;     // of the ground-plane fit (what chose the mode)
-  double ground_scan_line_share = -1.0;    // returns along scan lines (-1: not needed)
-  long long ground_hidden_returns = -1;    // returns left out as hidden (-1: not filtered)
-  double ground_edge_ratio = -1.0;         // the dense mode's surface step (-1: another mode)
-  double ground_camera_height = -1.0;      // the plane used: camera height (-1: no plane),
-  double ground_pitch_deg = 0.0, ground_roll_deg = 0.0;  // optical axis above it, roll
+  mm::DepthMapStats stats;  // the model's last run (ground_gp, image_guided: its plane and mode)
   std::vector<RetentionResult> retention;
 };
 
@@ -422,15 +417,7 @@ int run(int argc, char** argv) {
       }
       res.runtime_ms = median(times);
       res.input_in_view = map.stats.points_in_view;
-      res.ground_source = map.stats.ground_source;
-      res.ground_mode = map.stats.ground_mode;
-      res.ground_inlier_fraction = map.stats.ground_inlier_fraction;
-      res.ground_scan_line_share = map.stats.ground_scan_line_share;
-      res.ground_hidden_returns = map.stats.ground_hidden_returns;
-      res.ground_edge_ratio = map.stats.ground_edge_ratio;
-      res.ground_camera_height = map.stats.ground_camera_height;
-      res.ground_pitch_deg = map.stats.ground_pitch_deg;
-      res.ground_roll_deg = map.stats.ground_roll_deg;
+      res.stats = map.stats;
       depth.swap(map.depth);
       variance.swap(map.variance);
       predicted.swap(map.valid);
@@ -517,17 +504,7 @@ int run(int argc, char** argv) {
                          {"input_in_view", f.input_in_view},
                          {"gt_points", f.gt_points},
                          {"runtime_ms", mm::json::number(f.runtime_ms)}});
-    if (!f.ground_mode.empty()) {  // ground_gp, image_guided: its plane's source and its mode
-      per_frame.back()["ground_source"] = f.ground_source;
-      per_frame.back()["ground_mode"] = f.ground_mode;
-      per_frame.back()["ground_inlier_fraction"] = mm::json::number(f.ground_inlier_fraction);
-      per_frame.back()["ground_scan_line_share"] = mm::json::number(f.ground_scan_line_share);
-      per_frame.back()["ground_hidden_returns"] = f.ground_hidden_returns;
-      per_frame.back()["ground_edge_ratio"] = mm::json::number(f.ground_edge_ratio, 4);
-      per_frame.back()["ground_camera_height"] = mm::json::number(f.ground_camera_height, 4);
-      per_frame.back()["ground_pitch_deg"] = mm::json::number(f.ground_pitch_deg, 4);
-      per_frame.back()["ground_roll_deg"] = mm::json::number(f.ground_roll_deg, 4);
-    }
+    mm::cli::addGroundStats(f.stats, per_frame.back());  // ground_gp, image_guided
     per_frame.back()["retention"] = retention;
   }
   if (!o.output.empty()) {

@@ -1,0 +1,20 @@
+#include "ground_stats_json.hpp"
+
+namespace multimodal_nvs {
+namespace cli {
+
+void addGroundStats(const DepthMapStats& s, json::Json& out) {
+  if (s.ground_mode.empty()) return;
+  out["ground_source"] = s.ground_source;
+  out["ground_mode"] = s.ground_mode;
+  out["ground_inlier_fraction"] = json::number(s.ground_inlier_fraction, 4);
+  out["ground_scan_line_share"] = json::number(s.ground_scan_line_share, 4);
+  out["ground_hidden_returns"] = s.ground_hidden_returns;
+  out["ground_edge_ratio"] = json::number(s.ground_edge_ratio, 4);
+  out["ground_camera_height"] = json::number(s.ground_camera_height, 4);
+  out["ground_pitch_deg"] = json::number(s.ground_pitch_deg, 4);
+  out["ground_roll_deg"] = json::number(s.ground_roll_deg, 4);
+}
+
+}  // namespace cli
+}  // namespace multimodal_nvs
