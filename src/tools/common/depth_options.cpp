@@ -191,6 +191,11 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
   app.add_option("--guided-prior-weight", ig.prior_weight, "confidence of the prior per pixel")
       ->check(atLeast(0))
       ->group(guided);
+  app.add_option("--guided-prior-reference-density", ig.prior_reference_density,
+                 "returns per square degree of the view at which --guided-prior-weight holds; the "
+                 "weight follows the frame's density in proportion (x0.25..x10; 0: fixed)")
+      ->check(atLeast(0))
+      ->group(guided);
   app.add_option("--guided-far-depth", ig.far_depth, "depth of the sky and above the horizon")
       ->check(positive())
       ->group(guided);

@@ -14,6 +14,7 @@
 #include "multimodal_nvs/core/depth/depth_completion.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/image_guided_model.hpp"
+#include "multimodal_nvs/core/depth/return_density.hpp"
 #include "multimodal_nvs/core/depth/surface_colours.hpp"
 
 namespace mm = multimodal_nvs;
@@ -168,6 +169,47 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
     }
   }
   EXPECT_GT(differ, compared / 4);
+}
+
+// With ground_gp's prior the prior's weight follows the returns' density: a reference density a
+// third of the frame's is the same as three times the weight with no reference. The own prior
+// (dense input) keeps its weight whatever the reference.
+TEST(ImageGuided, GroundGpPriorWeighsWithTheReturnsDensity) {
+  const cv::Mat image = twoHalves();
+  const std::vector<Eigen::Vector3d> returns = threeReturns();
+  const double density = mm::returnDensity(returns.size(), smallCamera(), smallImage());
+  mm::DepthCompleter completer(2);
+  mm::DepthCompletionParams p = guidedParams();
+  p.guided.ground_gp_prior = true;
+  p.guided.prior_reference_density = density / 3.0;
+  const auto scaled = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  p.guided.prior_reference_density = 0.0;
+  const auto fixed = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  p.guided.prior_weight *= 3.0;
+  const auto tripled = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  ASSERT_EQ(scaled.depth.size(), tripled.depth.size());
+  int differ = 0;
+  for (std::size_t i = 0; i < scaled.depth.size(); ++i) {
+    ASSERT_NEAR(scaled.depth[i], tripled.depth[i], 1e-5f * tripled.depth[i]) << i;
+    ASSERT_NEAR(scaled.variance[i], tripled.variance[i], 1e-4f * tripled.variance[i]) << i;
+    differ += std::abs(scaled.depth[i] - fixed.depth[i]) > 1e-3f * fixed.depth[i];
+  }
+  EXPECT_GT(differ, 100);  // the weight moved the depth
+
+  // Dense input: the own prior, whatever the reference density.
+  std::vector<Eigen::Vector3d> dense;
+  for (int v = 40; v < smallImage().height; v += 2) {
+    for (int u = 0; u < kCols; u += 2)
+      dense.push_back(pointOnPixelRay(smallCamera(), u, v, u < 80 ? 6.0 : 18.0));
+  }
+  p = guidedParams();
+  p.guided.ground_gp_prior = true;
+  p.ground.input = mm::GroundPriorParams::Input::kDense;
+  const auto dense_default = completer.complete(dense, smallCamera(), {smallImage(), 1}, p, image);
+  p.guided.prior_reference_density = 0.0;
+  const auto dense_fixed = completer.complete(dense, smallCamera(), {smallImage(), 1}, p, image);
+  EXPECT_EQ(dense_default.depth, dense_fixed.depth);
+  EXPECT_EQ(dense_default.variance, dense_fixed.variance);
 }
 
 // On a prior grid four image pixels apart, the prior is ground_gp's prediction on that grid (at
