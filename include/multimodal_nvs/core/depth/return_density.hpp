@@ -19,7 +19,8 @@ double returnDensity(std::size_t returns_in_view, const PinholeIntrinsics& intri
 /// The smallest and largest factor priorWeightForDensity applies. Below: a frame with almost no
 /// returns in view keeps a quarter of the prior's weight (the returns it has still count). Above:
 /// ten times the reference is the densest radar measured (Astyx, 0.96 returns per square degree);
-/// a LiDAR's hundreds of times would otherwise bury its returns under the prior.
+/// a far denser scan in the sparse mode (a LiDAR forced to it) would otherwise bury its returns
+/// under the prior.
 inline constexpr double kMinPriorWeightFactor = 0.25;
 inline constexpr double kMaxPriorWeightFactor = 10.0;
 
