@@ -9,7 +9,9 @@ namespace multimodal_nvs {
 
 /// The image's extent in azimuth times its extent in elevation, square degrees, through the
 /// pinhole model along the principal point's row and column (pixel edges -0.5 .. size - 0.5). For
-/// View-of-Delft's camera 2,913, Astyx's 1,135, a 1,600x900 nuScenes camera ~2,530.
+/// View-of-Delft's camera 2,913, Astyx's 1,135, a 1,600x900 nuScenes camera ~2,530. A property of
+/// the camera, not of the output grid: PixelAngleGrid::extent() is the bounding box of the grid's
+/// pixel centres, which shrinks with the stride and widens with the rows' curvature.
 double viewSquareDegrees(const PinholeIntrinsics& intrinsics, const ImageSize& image);
 
 /// Returns per square degree of the view (0 for an empty view).
