@@ -35,6 +35,8 @@ void DepthCompletionDiagnostics::countPublished(double latency_ms, const DepthMa
     counts.ground_camera_height = stats.ground_camera_height;
     counts.ground_pitch_deg = stats.ground_pitch_deg;
     counts.ground_roll_deg = stats.ground_roll_deg;
+    counts.guided_return_density = stats.guided_return_density;
+    counts.guided_prior_weight = stats.guided_prior_weight;
   });
 }
 
@@ -81,6 +83,12 @@ void DepthCompletionDiagnostics::report(diagnostic_updater::DiagnosticStatusWrap
       status.addf("ground plane camera height (m)", "%.2f", total.ground_camera_height);
       status.addf("ground plane pitch (deg)", "%.2f", total.ground_pitch_deg);
       status.addf("ground plane roll (deg)", "%.2f", total.ground_roll_deg);
+    }
+    // How dense the returns are and how much that moved image_guided's prior: another radar's
+    // user sees whether the model treats it as sparse (VoD-like) or dense (Astyx-like).
+    if (total.guided_prior_weight >= 0.0) {
+      status.addf("returns per square degree", "%.3f", total.guided_return_density);
+      status.addf("image_guided prior weight", "%.2e", total.guided_prior_weight);
     }
     if (rejected_window > 0) {
       status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,

@@ -48,6 +48,8 @@ class DepthCompletionDiagnostics {
     /// The latest published frame's ground plane (empty source: no model with a ground plane).
     std::string ground_source;
     double ground_camera_height = -1.0, ground_pitch_deg = 0.0, ground_roll_deg = 0.0;
+    /// The latest image_guided frame's return density and prior weight (-1: another model).
+    double guided_return_density = -1.0, guided_prior_weight = -1.0;
   };
 
   WindowedCounters<Counts> counters_;

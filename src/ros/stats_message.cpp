@@ -26,6 +26,8 @@ DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs:
   message->ground_camera_height = static_cast<float>(stats.ground_camera_height);
   message->ground_pitch_deg = static_cast<float>(stats.ground_pitch_deg);
   message->ground_roll_deg = static_cast<float>(stats.ground_roll_deg);
+  message->guided_return_density = static_cast<float>(stats.guided_return_density);
+  message->guided_prior_weight = static_cast<float>(stats.guided_prior_weight);
   return message;
 }
 

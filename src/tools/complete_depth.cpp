@@ -11,7 +11,7 @@
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
 #include "common/frame_options.hpp"
-#include "common/ground_stats_json.hpp"
+#include "common/model_choices_json.hpp"
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/colormap.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
@@ -273,7 +273,7 @@ double computeFrame(const Options& o, const FrameJob& job, const LoadedFrame& f,
   json["points_non_finite"] = s.points_non_finite;
   json["points_in_view"] = s.points_in_view;
   json["neighbour_sets"] = s.neighbour_sets;
-  mm::cli::addGroundStats(s, json);  // ground_gp, image_guided: which plane and mode ran
+  mm::cli::addModelChoices(s, json);  // ground_gp, image_guided: which plane and mode ran
   json["shift"] = mm::json::number(s.shift, 6);
   json["threads"] = completer.threads();
   json["compute_ms"] = mm::json::number(times.front(), 6);

@@ -18,7 +18,7 @@
 #include "common/cli.hpp"
 #include "common/depth_options.hpp"
 #include "common/frame_options.hpp"
-#include "common/ground_stats_json.hpp"
+#include "common/model_choices_json.hpp"
 #include "common/progress.hpp"
 #include "multimodal_nvs/core/common/errors.hpp"
 #include "multimodal_nvs/core/common/json_output.hpp"
@@ -504,7 +504,7 @@ int run(int argc, char** argv) {
                          {"input_in_view", f.input_in_view},
                          {"gt_points", f.gt_points},
                          {"runtime_ms", mm::json::number(f.runtime_ms)}});
-    mm::cli::addGroundStats(f.stats, per_frame.back());  // ground_gp, image_guided
+    mm::cli::addModelChoices(f.stats, per_frame.back());  // ground_gp, image_guided
     per_frame.back()["retention"] = retention;
   }
   if (!o.output.empty()) {

@@ -17,6 +17,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -93,9 +94,8 @@ class PipelineTest : public ::testing::Test {
     filtered_topic_ = pnh.param<std::string>("filtered_points", "");
     ros::NodeHandle nh;
     // The depth nodelet's retention, as its YAML set it (pipeline.launch's depth_name).
-    ASSERT_TRUE(
-        nh.getParam(pnh.param<std::string>("depth_node", "/depth_completion") + "/retain_percent",
-                    retain_percent_));
+    depth_node_ = pnh.param<std::string>("depth_node", "/depth_completion");
+    ASSERT_TRUE(nh.getParam(depth_node_ + "/retain_percent", retain_percent_));
 
     char pattern[] = "/tmp/mmnvs_pipeline_XXXXXX";
     ASSERT_NE(mkdtemp(pattern), nullptr) << std::strerror(errno);
@@ -193,6 +193,7 @@ class PipelineTest : public ::testing::Test {
 
   static std::string sensor_, renderer_, filtered_topic_, dir_, bag_;
   static double retain_percent_;
+  static std::string depth_node_;
   static pid_t player_;
   static Outputs* outputs_;
   static std::vector<ros::Subscriber>* subscribers_;
@@ -203,6 +204,7 @@ class PipelineTest : public ::testing::Test {
 std::string PipelineTest::sensor_, PipelineTest::renderer_, PipelineTest::filtered_topic_,
     PipelineTest::dir_, PipelineTest::bag_;
 double PipelineTest::retain_percent_ = 0.0;
+std::string PipelineTest::depth_node_;
 pid_t PipelineTest::player_ = -1;
 Outputs* PipelineTest::outputs_ = nullptr;
 std::vector<ros::Subscriber>* PipelineTest::subscribers_ = nullptr;
@@ -330,6 +332,17 @@ TEST_F(PipelineTest, DiagnosticsReportTheGroundPlaneOfTheLatestFrame) {
   EXPECT_EQ(value("ground plane camera height (m)"), height);
   EXPECT_EQ(value("ground plane pitch (deg)"), pitch);
   EXPECT_NE(value("ground plane roll (deg)"), "(missing)");
+  // radar.yaml's image_guided also says how dense the returns were and the prior weight that
+  // followed; lidar.yaml's ground_gp has neither.
+  if (sensor_ == "radar") {
+    char density[32], weight[32];
+    std::snprintf(density, sizeof density, "%.3f", last.guided_return_density);
+    std::snprintf(weight, sizeof weight, "%.2e", last.guided_prior_weight);
+    EXPECT_EQ(value("returns per square degree"), density);
+    EXPECT_EQ(value("image_guided prior weight"), weight);
+  } else {
+    EXPECT_EQ(value("image_guided prior weight"), "(missing)");
+  }
 }
 
 TEST_F(PipelineTest, TheGroundPlanePolygonIsTheSyntheticRoad) {
@@ -352,6 +365,13 @@ TEST_F(PipelineTest, TheGroundPlanePolygonIsTheSyntheticRoad) {
 TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
   const Outputs& o = *outputs_;
   ASSERT_FALSE(o.stats.empty());
+  // The node's dynamic_reconfigure server put its whole configuration on the parameter server.
+  double prior_weight = 0.0, reference_density = 0.0;
+  if (sensor_ == "radar") {
+    ros::NodeHandle nh;
+    ASSERT_TRUE(nh.getParam(depth_node_ + "/guided_prior_weight", prior_weight));
+    ASSERT_TRUE(nh.getParam(depth_node_ + "/guided_prior_reference_density", reference_density));
+  }
   for (const auto& stats : o.stats) {
     SCOPED_TRACE("depth/stats at " + std::to_string(stats->header.stamp.toSec()));
     EXPECT_GT(stats->points_in, 0u);
@@ -382,6 +402,17 @@ TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
       EXPECT_GE(stats->ground_edge_ratio, 0.1f);  // lidar.yaml's ratio, or more on sparse rings
     }
     EXPECT_LE(stats->ground_hidden_returns, int(stats->points_in));
+    if (sensor_ == "radar") {
+      // image_guided on ground_gp's prior: the node's prior weight scaled by the returns' density
+      // against its reference density, the factor within 0.25-10.
+      EXPECT_GT(stats->guided_return_density, 0.0f);
+      const double factor =
+          std::clamp(stats->guided_return_density / reference_density, 0.25, 10.0);
+      EXPECT_NEAR(stats->guided_prior_weight, prior_weight * factor, 1e-5 * prior_weight);
+    } else {
+      EXPECT_EQ(stats->guided_return_density, -1.0f);
+      EXPECT_EQ(stats->guided_prior_weight, -1.0f);
+    }
   }
   ASSERT_FALSE(o.points.empty());
   for (const auto& cloud : o.points) {

@@ -402,6 +402,8 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   stats.ground_camera_height = 1.62;
   stats.ground_pitch_deg = -0.45;
   stats.ground_roll_deg = 1.5;
+  stats.guided_return_density = 0.093;
+  stats.guided_prior_weight = 0.00093;
   std_msgs::Header header;
   header.stamp = ros::Time(5.0);
   header.frame_id = "camera";
@@ -423,6 +425,8 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   EXPECT_FLOAT_EQ(message->ground_camera_height, 1.62f);
   EXPECT_FLOAT_EQ(message->ground_pitch_deg, -0.45f);
   EXPECT_FLOAT_EQ(message->ground_roll_deg, 1.5f);
+  EXPECT_FLOAT_EQ(message->guided_return_density, 0.093f);
+  EXPECT_FLOAT_EQ(message->guided_prior_weight, 0.00093f);
 }
 
 TEST(StatsMessage, TheGroundPlanePolygonIsTheRoadOfTheStatsInTheImagesFrame) {
@@ -457,6 +461,8 @@ TEST(StatsMessage, ModelsWithoutAGroundPlaneSayNoneRan) {
   EXPECT_EQ(message->ground_hidden_returns, -1);
   EXPECT_FLOAT_EQ(message->ground_edge_ratio, -1.0f);
   EXPECT_FLOAT_EQ(message->ground_camera_height, -1.0f);
+  EXPECT_FLOAT_EQ(message->guided_return_density, -1.0f);
+  EXPECT_FLOAT_EQ(message->guided_prior_weight, -1.0f);
 }
 
 sensor_msgs::CameraInfo makeInfo() {

@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 #include "tool_runner.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -178,6 +179,23 @@ TEST(CompleteDepthTool, WithoutAPoseTheGroundIsTheHeightAndPitchGivenAndAPoseWin
   EXPECT_NE(posed.output.find("\"ground_source\": \"pose\""), std::string::npos) << posed.output;
   EXPECT_NE(posed.output.find("\"ground_camera_height\": 1.3"), std::string::npos) << posed.output;
   EXPECT_EQ(posed.output.find("\"ground_pitch_deg\": 5,"), std::string::npos) << posed.output;
+  EXPECT_EQ(posed.output.find("guided_prior_weight"), std::string::npos) << posed.output;
+
+  // image_guided also reports the returns' density and the prior weight that followed from it.
+  const auto guided =
+      runTool("--vod-root " + scene + " --frame 0 --model image_guided --output " + dir() +
+              "cd_guided --guided-prior-weight 0.002 "
+              "--guided-prior-reference-density 0.1");
+  ASSERT_EQ(guided.exit_code, 0) << guided.output;
+  const auto number_after = [&](const std::string& key) {
+    const std::size_t at = guided.output.find("\"" + key + "\": ");
+    return at == std::string::npos ? -1.0 : std::stod(guided.output.substr(at + key.size() + 4));
+  };
+  const double density = number_after("guided_return_density");
+  EXPECT_GT(density, 0.0) << guided.output;
+  EXPECT_NEAR(number_after("guided_prior_weight"), 0.002 * std::clamp(density / 0.1, 0.25, 10.0),
+              1e-3 * 0.002)
+      << guided.output;
 }
 
 // Many frames in one process run as a pipeline (the next frame read while one is completed, the

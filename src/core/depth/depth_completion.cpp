@@ -13,6 +13,7 @@
 #include "multimodal_nvs/core/depth/depth_shift.hpp"
 #include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
+#include "multimodal_nvs/core/depth/models/image_guided_model.hpp"
 #include "multimodal_nvs/core/depth/models/model_registry.hpp"
 #include "multimodal_nvs/core/depth/models/pixel_predictions.hpp"
 #include "multimodal_nvs/core/depth/neighbour_sets.hpp"
@@ -116,8 +117,11 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
   prediction.mean.swap(out.depth);
   prediction.variance.swap(out.variance);
   GroundChoice ground;
+  ImageGuidedReport guided;
   stats.neighbour_sets = predictWithModel(samples, angles, params, stats.shift, *pool_, prediction,
-                                          image, &ground, &model_scratch_);
+                                          image, &ground, &model_scratch_, &guided);
+  stats.guided_return_density = guided.return_density;
+  stats.guided_prior_weight = guided.prior_weight;
   if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
     stats.ground_source = toString(ground.source);
     stats.ground_mode = ground.dense ? "dense" : ground.tiled_residual ? "sparse_tiled" : "sparse";

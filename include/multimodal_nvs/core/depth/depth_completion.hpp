@@ -41,6 +41,10 @@ struct DepthMapStats {
   double ground_camera_height = -1.0;
   double ground_pitch_deg = 0.0;
   double ground_roll_deg = 0.0;
+  /// image_guided only (-1 otherwise): the returns in the camera's view per square degree and the
+  /// prior's evidence weight per image pixel that followed from them (ImageGuidedReport).
+  double guided_return_density = -1.0;
+  double guided_prior_weight = -1.0;
 };
 
 /// Dense depth on the stride grid, in the reference's layout: depth in metres (camera z), -1 where

@@ -372,10 +372,11 @@ void applySkyMask(const std::vector<std::uint8_t>& sky, const ImageGuidedParams&
   writeSky(sky.data(), static_cast<int>(sky.size()), g, out.mean.data(), out.variance.data());
 }
 
-void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                        const DepthCompletionParams& params, const GroundPlane& plane,
-                        const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
-                        const PredictionRows* model_prior) {
+ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
+                                     const PixelAngleGrid& angles,
+                                     const DepthCompletionParams& params, const GroundPlane& plane,
+                                     const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
+                                     const PredictionRows* model_prior) {
   const ImageGuidedParams& g = params.guided;
   const StrideGrid& grid = angles.grid();
   const int rows = grid.rows(), cols = grid.cols();
@@ -477,6 +478,7 @@ void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAn
           writeSky(sky_row, cols, g, out.mean.data() + i, out.variance.data() + i);
       },
       16);
+  return {density, weight};
 }
 
 }  // namespace multimodal_nvs

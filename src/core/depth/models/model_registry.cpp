@@ -106,7 +106,7 @@ int predictGroundGpModel(const std::vector<AngularSample>& samples, const PixelA
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& requested, double shift, ThreadPool& pool,
                      PixelPredictions& out, const cv::Mat& image, GroundChoice* ground,
-                     ModelScratch* scratch) {
+                     ModelScratch* scratch, ImageGuidedReport* guided) {
   // ground_gp's dense mode separates surfaces at a depth step that grows with the returns' spacing
   // (denseEdgeRatio, which also knows when that is switched off): decided once per scan, before the
   // hidden-return filter below uses it too.
@@ -155,6 +155,8 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     return sets;
   }
   if (params.model == DepthModel::kImageGuided) {
+    ImageGuidedReport unused_report;
+    ImageGuidedReport& report = guided != nullptr ? *guided : unused_report;
     // On sparse input (ground_gp's sparse mode: radar) ground_gp's prediction is the prior the
     // smoother spreads the returns over: a few hundred returns leave most surfaces to the prior,
     // and on real frames ground_gp's is the better one (radar MAE against the LiDAR: VoD 3.33
@@ -163,7 +165,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     // carries its surfaces itself; there ground_gp's interpolated triangles as the prior lost
     // 1.8 dB (synthetic dev, covered PSNR), so it keeps the ground and nearest-surface prior.
     if (!params.guided.ground_gp_prior || choice.dense) {
-      predictImageGuided(samples, angles, params, choice.plane, image, pool, out);
+      report = predictImageGuided(samples, angles, params, choice.plane, image, pool, out);
       return 0;
     }
     // ground_gp first, on the same ground, then its prediction as the prior.
@@ -190,13 +192,15 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
                                scratch->coarse_prior, ground, scratch, triangulation, image);
       scratch->upsampled_prior.prepare(scratch->coarse_prior, coarse, grid, factor, pool);
       const PredictionRows prior_rows(scratch->upsampled_prior);
-      predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior_rows);
+      report =
+          predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior_rows);
       return sets;
     }
     const int sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior,
                                           ground, scratch, triangulation, image);
     const PredictionRows prior_rows(prior, grid.rows(), grid.cols());
-    predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior_rows);
+    report =
+        predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior_rows);
     return sets;
   }
   if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {

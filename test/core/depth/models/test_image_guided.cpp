@@ -195,6 +195,14 @@ TEST(ImageGuided, GroundGpPriorWeighsWithTheReturnsDensity) {
     differ += std::abs(scaled.depth[i] - fixed.depth[i]) > 1e-3f * fixed.depth[i];
   }
   EXPECT_GT(differ, 100);  // the weight moved the depth
+  // The stats say which density the frame had and which weight followed.
+  EXPECT_NEAR(scaled.stats.guided_return_density, density, 1e-12);
+  EXPECT_NEAR(scaled.stats.guided_prior_weight, 3.0 * guidedParams().guided.prior_weight, 1e-12);
+  EXPECT_NEAR(fixed.stats.guided_prior_weight, guidedParams().guided.prior_weight, 1e-12);
+  EXPECT_NEAR(tripled.stats.guided_prior_weight, 3.0 * guidedParams().guided.prior_weight, 1e-12);
+  const auto ground_gp = completer.complete(returns, smallCamera(), {smallImage(), 1}, groundGp());
+  EXPECT_EQ(ground_gp.stats.guided_return_density, -1.0);  // not image_guided
+  EXPECT_EQ(ground_gp.stats.guided_prior_weight, -1.0);
 
   // Dense input: the own prior, whatever the reference density.
   std::vector<Eigen::Vector3d> dense;
@@ -210,6 +218,8 @@ TEST(ImageGuided, GroundGpPriorWeighsWithTheReturnsDensity) {
   const auto dense_fixed = completer.complete(dense, smallCamera(), {smallImage(), 1}, p, image);
   EXPECT_EQ(dense_default.depth, dense_fixed.depth);
   EXPECT_EQ(dense_default.variance, dense_fixed.variance);
+  EXPECT_EQ(dense_default.stats.guided_prior_weight, guidedParams().guided.prior_weight);
+  EXPECT_GT(dense_default.stats.guided_return_density, density);
 }
 
 // On a prior grid four image pixels apart, the prior is ground_gp's prediction on that grid (at

@@ -19,6 +19,16 @@ namespace multimodal_nvs {
 
 struct GroundPlane;
 
+/// What image_guided chose for a frame, for the node's stats and the tools' JSON: a user with
+/// another sensor sees how its density moved the prior's weight.
+struct ImageGuidedReport {
+  /// Returns in the camera's view per square degree (returnDensity).
+  double return_density = -1.0;
+  /// The prior's evidence weight per image pixel this frame used: guided.prior_weight, times the
+  /// density's factor with ground_gp's prior (priorWeightForDensity).
+  double prior_weight = -1.0;
+};
+
 /// `image_guided` (image_guided_model.cpp). `image`: the camera image at the grid's full image
 /// size (8-bit or 16-bit, 1, 3 or 4 channels, BGR order). Throws InputError when it is missing or
 /// of another size. `model_prior`: another model's prediction on the grid, read row by row (a
@@ -26,10 +36,12 @@ struct GroundPlane;
 /// variance standing in where only the prior speaks (guided.ground_gp_prior: ground_gp's
 /// prediction, possibly interpolated from a coarser grid as it is read); nullptr: the model's own
 /// prior. Throws InputError when it is not of the grid's size.
-void predictImageGuided(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
-                        const DepthCompletionParams& params, const GroundPlane& plane,
-                        const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
-                        const PredictionRows* model_prior = nullptr);
+/// Returns what the frame made of the prior's weight (ImageGuidedReport).
+ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
+                                     const PixelAngleGrid& angles,
+                                     const DepthCompletionParams& params, const GroundPlane& plane,
+                                     const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
+                                     const PredictionRows* model_prior = nullptr);
 
 /// The image's sky on the grid for another model's prediction (skyMask on the ground plane's
 /// horizon and the returns' top rows, guided.sky_* parameters): 1 where sky. It does not depend on

@@ -13,6 +13,7 @@
 namespace multimodal_nvs {
 
 struct GroundChoice;
+struct ImageGuidedReport;
 
 /// True for nearest, linear, ipbasic and constant (the models that need no neighbour sets).
 bool isBaseline(DepthModel model);
@@ -32,11 +33,13 @@ bool groundGpUsesTiles(const std::vector<AngularSample>& samples, const PixelAng
 /// params.shift). `image`: the camera image (used by image_guided only; may be empty for the
 /// others). Returns the number of neighbour sets (or tiles) the model solved, 0 for models
 /// without any.
-/// For ground_gp, `ground` (when given) receives the plane and mode it chose. `scratch` (when
-/// given) holds work buffers between calls.
+/// For ground_gp, `ground` (when given) receives the plane and mode it chose; for image_guided,
+/// `guided` (when given) its prior's weight. `scratch` (when given) holds work buffers between
+/// calls.
 int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngleGrid& angles,
                      const DepthCompletionParams& params, double shift, ThreadPool& pool,
                      PixelPredictions& out, const cv::Mat& image = cv::Mat(),
-                     GroundChoice* ground = nullptr, ModelScratch* scratch = nullptr);
+                     GroundChoice* ground = nullptr, ModelScratch* scratch = nullptr,
+                     ImageGuidedReport* guided = nullptr);
 
 }  // namespace multimodal_nvs

@@ -1,9 +1,9 @@
-#include "ground_stats_json.hpp"
+#include "model_choices_json.hpp"
 
 namespace multimodal_nvs {
 namespace cli {
 
-void addGroundStats(const DepthMapStats& s, json::Json& out) {
+void addModelChoices(const DepthMapStats& s, json::Json& out) {
   if (s.ground_mode.empty()) return;
   out["ground_source"] = s.ground_source;
   out["ground_mode"] = s.ground_mode;
@@ -14,6 +14,9 @@ void addGroundStats(const DepthMapStats& s, json::Json& out) {
   out["ground_camera_height"] = json::number(s.ground_camera_height, 4);
   out["ground_pitch_deg"] = json::number(s.ground_pitch_deg, 4);
   out["ground_roll_deg"] = json::number(s.ground_roll_deg, 4);
+  if (s.guided_prior_weight < 0.0) return;  // not image_guided
+  out["guided_return_density"] = json::number(s.guided_return_density, 4);
+  out["guided_prior_weight"] = json::number(s.guided_prior_weight, 4);
 }
 
 }  // namespace cli
