@@ -9,7 +9,6 @@
 
 namespace multimodal_nvs {
 namespace {
-constexpr double kLog2Pi = 1.8378770664093454835606594728112;
 
 // The lanes' Cholesky pivots and divisions as whole-register operations (GCC vector types,
 // element-wise IEEE, so each lane computes the scalar expression's bits): written as loops over

@@ -10,7 +10,6 @@
 
 namespace multimodal_nvs {
 namespace {
-constexpr double kLog2Pi = 1.8378770664093454835606594728112;
 // Up to this size the packed scalar Cholesky beats Eigen's dynamic-size LLT (no copies, no
 // blocking overhead); beyond it Eigen's vectorised blocked factorisation wins.
 constexpr int kPackedCholeskyMaxSize = 32;

@@ -7,6 +7,10 @@
 
 namespace multimodal_nvs {
 
+/// log(2 pi): the constant of a Gaussian's negative log marginal likelihood (0.5 n log 2 pi), in
+/// LocalGp's and the batched length-scale search's likelihoods alike.
+inline constexpr double kLog2Pi = 1.8378770664093454835606594728112;
+
 /// Hyperparameters of the local GP with marginal-likelihood length scale (reference defaults).
 struct LocalGpParams {
   double amplitude = 25.0;        ///< a; kernel variance a^2
