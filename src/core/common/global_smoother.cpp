@@ -85,7 +85,7 @@ struct Weights {
   cv::Mat vertical;  // (r, c): between (r, c) and (r + 1, c); 0 in the last row
 };
 
-Weights edgeWeights(const cv::Mat& guide, float sigma, ThreadPool& pool) {
+Weights edgeWeights(const cv::Mat& guide, float sigma, bool vertical_edges, ThreadPool& pool) {
   const std::shared_ptr<const std::vector<float>> cached_table = weightTable(sigma);
   const float* table = cached_table->data();
   const int rows = guide.rows, cols = guide.cols;
@@ -114,6 +114,10 @@ Weights edgeWeights(const cv::Mat& guide, float sigma, ThreadPool& pool) {
       float* v = w.vertical.ptr<float>(r);
       if (r + 1 == rows) {
         std::fill(v, v + cols, 0.0f);
+        continue;
+      }
+      if (!vertical_edges) {  // the weight of equal colours
+        std::fill(v, v + cols, table[0]);
         continue;
       }
       squaredDistances(g, guide.ptr<std::uint8_t>(r + 1), cols, down);
@@ -265,7 +269,8 @@ void smoothAlongGuide(const cv::Mat& guide, std::vector<cv::Mat>& planes,
   if (planes.size() > std::size_t(kMaxPlanes)) {
     throw std::invalid_argument("smoothAlongGuide: at most 4 planes");
   }
-  const Weights weights = edgeWeights(guide, static_cast<float>(params.sigma_color), pool);
+  const Weights weights =
+      edgeWeights(guide, static_cast<float>(params.sigma_color), params.vertical_edges, pool);
   float* data[kMaxPlanes];
   for (std::size_t p = 0; p < planes.size(); ++p) {
     if (!planes[p].isContinuous()) planes[p] = planes[p].clone();

@@ -96,6 +96,35 @@ TEST(GlobalSmoother, EvidenceSpreadsAlongItsSurfaceAndNotAcrossAnEdge) {
   EXPECT_LT(across, 1e-3f * same_surface);
 }
 
+// Without vertical edges the column solves see no edge between rows (the result equals a uniform
+// guide's where the guide changes only between rows), while the row solves still stop at an edge
+// between columns.
+TEST(GlobalSmoother, WithoutVerticalEdgesOnlyTheEdgesBetweenColumnsHold) {
+  mm::ThreadPool pool(2);
+  cv::Mat top_bottom(50, 100, CV_8UC3, cv::Scalar::all(40));
+  top_bottom.rowRange(25, 50).setTo(cv::Scalar::all(200));
+  const cv::Mat uniform(top_bottom.size(), CV_8UC3, cv::Scalar::all(40));
+  const auto smoothed = [&](const cv::Mat& guide, bool vertical_edges, cv::Point sample) {
+    std::vector<cv::Mat> planes{cv::Mat::zeros(guide.size(), CV_32F)};
+    planes[0].at<float>(sample) = 1.0f;
+    mm::GlobalSmootherParams params;
+    params.vertical_edges = vertical_edges;
+    mm::smoothAlongGuide(guide, planes, params, pool);
+    return planes[0];
+  };
+  const cv::Point on_top(50, 10);  // (x, y)
+  const cv::Mat with_edges = smoothed(top_bottom, true, on_top);
+  const cv::Mat without = smoothed(top_bottom, false, on_top);
+  EXPECT_LT(with_edges.at<float>(40, 50), 1e-3f * with_edges.at<float>(15, 50));
+  EXPECT_EQ(cv::norm(without, smoothed(uniform, true, on_top), cv::NORM_INF), 0.0);
+
+  cv::Mat left_right(50, 100, CV_8UC3, cv::Scalar::all(40));
+  left_right.colRange(50, 100).setTo(cv::Scalar::all(200));
+  const cv::Mat sideways = smoothed(left_right, false, cv::Point(10, 25));
+  EXPECT_GT(sideways.at<float>(40, 45), 0.0f);  // down the same column band, past any row
+  EXPECT_LT(sideways.at<float>(25, 55), 1e-3f * sideways.at<float>(25, 45));
+}
+
 TEST(GlobalSmoother, RejectsPlanesOfAnotherSizeOrType) {
   mm::ThreadPool pool(1);
   const cv::Mat guide = smoothGuide(10, 10);

@@ -17,6 +17,12 @@ struct GlobalSmootherParams {
   double sigma_color = 8.0;   ///< guide difference (8-bit, Euclidean over BGR) of weight 1/e
   double attenuation = 0.25;  ///< lambda is multiplied by this after each iteration
   int iterations = 3;         ///< each: one horizontal and one vertical 1D solve
+  /// false: the vertical solves ignore the guide (every weight that of equal colours), the
+  /// horizontal ones still follow it. For evidence whose row is not known (a 2D scanner's returns
+  /// project to the row of its own scan plane, not of the surface that returned them) an edge
+  /// between rows says nothing about where the evidence belongs; an edge between columns still
+  /// does (its azimuth is measured).
+  bool vertical_edges = true;
 };
 
 /// Smooths `planes` (CV_32FC1 each, the guide's size) in place, guided by `guide` (CV_8UC3).

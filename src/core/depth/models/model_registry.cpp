@@ -165,7 +165,7 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
     // carries its surfaces itself; there ground_gp's interpolated triangles as the prior lost
     // 1.8 dB (synthetic dev, covered PSNR), so it keeps the ground and nearest-surface prior.
     if (!params.guided.ground_gp_prior || choice.dense) {
-      report = predictImageGuided(samples, angles, params, choice.plane, image, pool, out);
+      report = predictImageGuided(samples, angles, params, choice, image, pool, out);
       return 0;
     }
     // ground_gp first, on the same ground, then its prediction as the prior.
@@ -192,15 +192,13 @@ int predictWithModel(const std::vector<AngularSample>& samples, const PixelAngle
                                scratch->coarse_prior, ground, scratch, triangulation, image);
       scratch->upsampled_prior.prepare(scratch->coarse_prior, coarse, grid, factor, pool);
       const PredictionRows prior_rows(scratch->upsampled_prior);
-      report =
-          predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior_rows);
+      report = predictImageGuided(samples, angles, params, choice, image, pool, out, &prior_rows);
       return sets;
     }
     const int sets = predictGroundGpModel(samples, angles, ground_gp, choice, shift, pool, prior,
                                           ground, scratch, triangulation, image);
     const PredictionRows prior_rows(prior, grid.rows(), grid.cols());
-    report =
-        predictImageGuided(samples, angles, params, choice.plane, image, pool, out, &prior_rows);
+    report = predictImageGuided(samples, angles, params, choice, image, pool, out, &prior_rows);
     return sets;
   }
   if (params.model == DepthModel::kLocalGpMle && params.max_neighbors > 0) {

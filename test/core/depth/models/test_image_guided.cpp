@@ -171,6 +171,43 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
   EXPECT_GT(differ, compared / 4);
 }
 
+// A 2D scanner's returns (all on one plane through the sensor: nuScenes' front radar) project to
+// the rows of that plane, not of the surfaces that returned them: the smoother then ignores the
+// image's edges between rows (an image that changes only from row to row acts as a uniform guide)
+// and still follows those between columns. Returns off that plane keep every edge.
+TEST(ImageGuided, ReturnsOnOneScanPlaneIgnoreTheEdgesBetweenRows) {
+  cv::Mat rows_only(smallImage().height, kCols, CV_8UC3, cv::Scalar::all(40));
+  rows_only.rowRange(0, 75).setTo(cv::Scalar::all(200));  // an edge between rows 74 and 75
+  // Sixteen returns on the camera's horizontal plane (y = 0), 6-28.5 m away, scattered in azimuth
+  // (not on one line, so that the returns lifted off the plane below fit no other plane).
+  std::vector<Eigen::Vector3d> scan_plane;
+  for (int i = 0; i < 16; ++i) {
+    const double z = 6.0 + 1.5 * i;
+    scan_plane.emplace_back(0.5 * z * std::sin(0.9 * i), 0.0, z);
+  }
+  std::vector<Eigen::Vector3d> three_d = scan_plane;
+  for (std::size_t i = 0; i < three_d.size(); ++i)
+    three_d[i].y() = (i % 2 == 0 ? 0.4 : -0.4);  // 0.4 m above and below: no longer one plane
+  mm::DepthCompleter completer(2);
+  mm::DepthCompletionParams p = edgeParams();
+  const auto on_plane =
+      completer.complete(scan_plane, smallCamera(), {smallImage(), 1}, p, rows_only);
+  const auto off_plane =
+      completer.complete(three_d, smallCamera(), {smallImage(), 1}, p, rows_only);
+  p.guided.edges = false;
+  const auto on_plane_uniform =
+      completer.complete(scan_plane, smallCamera(), {smallImage(), 1}, p, rows_only);
+  const auto off_plane_uniform =
+      completer.complete(three_d, smallCamera(), {smallImage(), 1}, p, rows_only);
+  EXPECT_EQ(on_plane.depth, on_plane_uniform.depth);
+  EXPECT_EQ(on_plane.variance, on_plane_uniform.variance);
+  int differ = 0;
+  for (std::size_t i = 0; i < off_plane.depth.size(); ++i)
+    differ +=
+        std::abs(off_plane.depth[i] - off_plane_uniform.depth[i]) > 1e-3f * off_plane.depth[i];
+  EXPECT_GT(differ, 100);  // 3D returns: the edge between rows holds
+}
+
 // With ground_gp's prior the prior's weight follows the returns' density: a reference density a
 // third of the frame's is the same as three times the weight with no reference. The own prior
 // (dense input) keeps its weight whatever the reference.

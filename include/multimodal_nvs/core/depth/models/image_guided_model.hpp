@@ -17,6 +17,7 @@
 
 namespace multimodal_nvs {
 
+struct GroundChoice;
 struct GroundPlane;
 
 /// What image_guided chose for a frame, for the node's stats and the tools' JSON: a user with
@@ -29,7 +30,10 @@ struct ImageGuidedReport {
   double prior_weight = -1.0;
 };
 
-/// `image_guided` (image_guided_model.cpp). `image`: the camera image at the grid's full image
+/// `image_guided` (image_guided_model.cpp). `ground`: chooseGround's plane (the ground prior and
+/// the sky's horizon) and whether the returns lie on one scan plane (then the smoother's vertical
+/// solves ignore the image: such returns' rows are not measured). `image`: the camera image at
+/// the grid's full image
 /// size (8-bit or 16-bit, 1, 3 or 4 channels, BGR order). Throws InputError when it is missing or
 /// of another size. `model_prior`: another model's prediction on the grid, read row by row (a
 /// mean of +inf or NaN where it has none), that replaces the ground and surface prior, its
@@ -39,8 +43,9 @@ struct ImageGuidedReport {
 /// Returns what the frame made of the prior's weight (ImageGuidedReport).
 ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
                                      const PixelAngleGrid& angles,
-                                     const DepthCompletionParams& params, const GroundPlane& plane,
-                                     const cv::Mat& image, ThreadPool& pool, PixelPredictions& out,
+                                     const DepthCompletionParams& params,
+                                     const GroundChoice& ground, const cv::Mat& image,
+                                     ThreadPool& pool, PixelPredictions& out,
                                      const PredictionRows* model_prior = nullptr);
 
 /// The image's sky on the grid for another model's prediction (skyMask on the ground plane's
