@@ -23,6 +23,7 @@ DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs:
   message->ground_scan_line_share = static_cast<float>(stats.ground_scan_line_share);
   message->ground_hidden_returns = static_cast<int>(stats.ground_hidden_returns);
   message->ground_edge_ratio = static_cast<float>(stats.ground_edge_ratio);
+  message->ground_single_scan_plane = stats.ground_single_scan_plane;
   message->ground_camera_height = static_cast<float>(stats.ground_camera_height);
   message->ground_pitch_deg = static_cast<float>(stats.ground_pitch_deg);
   message->ground_roll_deg = static_cast<float>(stats.ground_roll_deg);

@@ -402,6 +402,7 @@ TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
       EXPECT_GE(stats->ground_edge_ratio, 0.1f);  // lidar.yaml's ratio, or more on sparse rings
     }
     EXPECT_LE(stats->ground_hidden_returns, int(stats->points_in));
+    EXPECT_FALSE(stats->ground_single_scan_plane);  // 3D radar and a scanning LiDAR
     if (sensor_ == "radar") {
       // image_guided on ground_gp's prior: the node's prior weight scaled by the returns' density
       // against its reference density, the factor within 0.25-10.

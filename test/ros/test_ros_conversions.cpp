@@ -399,6 +399,7 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   stats.ground_scan_line_share = 0.75;
   stats.ground_hidden_returns = 1202;
   stats.ground_edge_ratio = 0.24;
+  stats.ground_single_scan_plane = true;
   stats.ground_camera_height = 1.62;
   stats.ground_pitch_deg = -0.45;
   stats.ground_roll_deg = 1.5;
@@ -422,6 +423,7 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   EXPECT_FLOAT_EQ(message->ground_scan_line_share, 0.75f);
   EXPECT_EQ(message->ground_hidden_returns, 1202);
   EXPECT_FLOAT_EQ(message->ground_edge_ratio, 0.24f);
+  EXPECT_TRUE(message->ground_single_scan_plane);
   EXPECT_FLOAT_EQ(message->ground_camera_height, 1.62f);
   EXPECT_FLOAT_EQ(message->ground_pitch_deg, -0.45f);
   EXPECT_FLOAT_EQ(message->ground_roll_deg, 1.5f);
@@ -460,6 +462,7 @@ TEST(StatsMessage, ModelsWithoutAGroundPlaneSayNoneRan) {
   EXPECT_FLOAT_EQ(message->ground_scan_line_share, -1.0f);
   EXPECT_EQ(message->ground_hidden_returns, -1);
   EXPECT_FLOAT_EQ(message->ground_edge_ratio, -1.0f);
+  EXPECT_FALSE(message->ground_single_scan_plane);
   EXPECT_FLOAT_EQ(message->ground_camera_height, -1.0f);
   EXPECT_FLOAT_EQ(message->guided_return_density, -1.0f);
   EXPECT_FLOAT_EQ(message->guided_prior_weight, -1.0f);

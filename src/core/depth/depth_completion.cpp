@@ -129,6 +129,7 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
     stats.ground_scan_line_share = ground.scan_line_share;
     stats.ground_hidden_returns = ground.hidden_returns;
     stats.ground_edge_ratio = ground.edge_ratio;
+    stats.ground_single_scan_plane = ground.single_scan_plane;
     stats.ground_camera_height = ground.plane.height;
     stats.ground_pitch_deg = ground.plane.pitchDeg();
     stats.ground_roll_deg = ground.plane.rollDeg();

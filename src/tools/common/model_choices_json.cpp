@@ -11,6 +11,7 @@ void addModelChoices(const DepthMapStats& s, json::Json& out) {
   out["ground_scan_line_share"] = json::number(s.ground_scan_line_share, 4);
   out["ground_hidden_returns"] = s.ground_hidden_returns;
   out["ground_edge_ratio"] = json::number(s.ground_edge_ratio, 4);
+  out["ground_single_scan_plane"] = s.ground_single_scan_plane;
   out["ground_camera_height"] = json::number(s.ground_camera_height, 4);
   out["ground_pitch_deg"] = json::number(s.ground_pitch_deg, 4);
   out["ground_roll_deg"] = json::number(s.ground_roll_deg, 4);

@@ -36,6 +36,10 @@ struct DepthMapStats {
   long long ground_hidden_returns = -1;
   /// ground_gp's dense mode: the depth step (relative) that separated surfaces (-1: another mode).
   double ground_edge_ratio = -1.0;
+  /// ground_gp and image_guided: the returns lie on one plane through the sensor (a 2D scanner,
+  /// GroundPlaneFit::single_scan_plane): their rows are not measured, so neither model reads the
+  /// image's colours at them and image_guided ignores the edges between rows.
+  bool ground_single_scan_plane = false;
   /// ground_gp and image_guided: the plane used, as the camera's height above it (m; -1 for the
   /// other models), the optical axis's angle above it and the roll (degrees; GroundPlane).
   double ground_camera_height = -1.0;

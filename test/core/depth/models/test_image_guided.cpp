@@ -199,6 +199,8 @@ TEST(ImageGuided, ReturnsOnOneScanPlaneIgnoreTheEdgesBetweenRows) {
       completer.complete(scan_plane, smallCamera(), {smallImage(), 1}, p, rows_only);
   const auto off_plane_uniform =
       completer.complete(three_d, smallCamera(), {smallImage(), 1}, p, rows_only);
+  EXPECT_TRUE(on_plane.stats.ground_single_scan_plane);
+  EXPECT_FALSE(off_plane.stats.ground_single_scan_plane);
   EXPECT_EQ(on_plane.depth, on_plane_uniform.depth);
   EXPECT_EQ(on_plane.variance, on_plane_uniform.variance);
   int differ = 0;
