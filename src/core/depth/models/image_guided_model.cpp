@@ -460,7 +460,8 @@ ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
   // A 2D scanner's returns (all on one scan plane) project to its plane's rows, not to their
   // surfaces' (their elevation is not measured): the image's edges between rows say nothing about
   // which surface a return's evidence belongs to, its edges between columns still do. On nuScenes'
-  // front radar, radar MAE at stride 1: 6.01 m following every edge, 5.48 with a uniform guide.
+  // front radar, radar MAE at stride 1: 6.01 m following every edge, 5.50 following only those
+  // between columns, 5.48 with a uniform guide (which would also drop the azimuth's edges).
   const bool vertical_edges = !ground.single_scan_plane;
   smoothSums(edge_guide, g, g.lambda / grid_pixel_area, vertical_edges, pool, sums);
 
