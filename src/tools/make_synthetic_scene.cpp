@@ -22,6 +22,7 @@ struct Options {
   std::string output, frames;
   std::vector<double> radar_angle_sigma;
   int lidar_beams = 64;
+  bool radar_2d = false;
   bool quiet = false;
 };
 
@@ -104,6 +105,10 @@ void declareOptions(CLI::App& app, Options& o) {
                  "largest range factor of a ghost")
       ->check(CLI::Range(syn::kMinGhostRangeFactor, syn::kMaxGhostRangeFactor))
       ->group(sensors);
+  app.add_flag("--radar-2d", o.radar_2d,
+               "a 2D radar: range and azimuth measured, every detection reported at elevation 0 "
+               "on the radar's own plane (as nuScenes' front radar)")
+      ->group(sensors);
   app.add_option("--lidar-range-sigma", p.lidar.range_sigma, "LiDAR range noise (m)")
       ->check(mm::cli::atLeast(0))
       ->group(sensors);
@@ -159,6 +164,7 @@ int run(int argc, char** argv) {
   p.lidar = syn::LidarParams::velodyne(o.lidar_beams);
   p.lidar.range_sigma = lidar_range_sigma;
   p.lidar.azimuth_step_deg = lidar_azimuth_step;
+  p.radar.measures_elevation = !o.radar_2d;
   if (!o.radar_angle_sigma.empty()) {
     p.radar.azimuth_sigma_deg = o.radar_angle_sigma[0];
     p.radar.elevation_sigma_deg = o.radar_angle_sigma[1];

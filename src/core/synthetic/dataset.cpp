@@ -182,6 +182,8 @@ void SyntheticDataset::write(const std::string& root,
          << ", \"radar_pass_through\": " << params_.radar.pass_through
          << ", \"radar_ghosts\": " << params_.radar.ghosts
          << ", \"radar_ghost_range_factor_max\": " << params_.radar.ghost_range_factor_max
+         << ", \"radar_measures_elevation\": "
+         << (params_.radar.measures_elevation ? "true" : "false")
          << ", \"radar_candidates\": " << params_.radar.candidates
          << ", \"lidar_range_sigma\": " << params_.lidar.range_sigma
          << ", \"lidar_beams\": " << params_.lidar.rings << ", \"lidar_elevation_deg\": ["

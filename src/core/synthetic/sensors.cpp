@@ -247,7 +247,9 @@ std::vector<RadarReturn> simulateRadar(const SyntheticScene& scene,
     const double range = path + p.range_sigma * rng.normal();
     const double az_m = az + p.azimuth_sigma_deg * kDeg * rng.normal();
     const double el_m = el + p.elevation_sigma_deg * kDeg * rng.normal();
-    const Eigen::Vector3d measured = direction(az_m, el_m);
+    // A 2D radar reports the detection on its own scan plane: the elevation is drawn (the same
+    // random sequence) but not measured.
+    const Eigen::Vector3d measured = direction(az_m, p.measures_elevation ? el_m : 0.0);
     RadarReturn ret;
     ret.position = (range * measured).cast<float>();
     ret.rcs = static_cast<float>(SyntheticScene::radarCrossSectionDb(hit.material) +
@@ -263,7 +265,12 @@ std::vector<RadarReturn> simulateRadar(const SyntheticScene& scene,
   const double f = std::min(0.9, std::max(0.0, p.clutter_fraction));
   const int clutter = static_cast<int>(std::lround(returns.size() * f / (1.0 - f)));
   for (int i = 0; i < clutter; ++i) {
-    const Eigen::Vector3d d = direction(rng.uniform(-az_max, az_max), rng.uniform(el_min, el_max));
+    // One expression as it always was, so that the random draws keep their order (the order of
+    // a call's arguments is the compiler's), then flattened for a 2D radar.
+    const Eigen::Vector3d drawn =
+        direction(rng.uniform(-az_max, az_max), rng.uniform(el_min, el_max));
+    const Eigen::Vector3d d =
+        p.measures_elevation ? drawn : direction(std::atan2(drawn.y(), drawn.x()), 0.0);
     RadarReturn ret;
     ret.position = (rng.uniform(2.0, 0.75 * p.max_range) * d).cast<float>();
     ret.rcs = static_cast<float>(-18.0 + 4.0 * rng.normal());

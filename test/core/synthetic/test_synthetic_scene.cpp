@@ -353,6 +353,30 @@ TEST(SyntheticScene, RadarGhostsLieAlongTheBeamBehindTheSurface) {
   }
 }
 
+// A 2D radar measures range and azimuth, not elevation: each detection of the 3D radar of the same
+// seed comes back at the same range and azimuth on the radar's own plane (z = 0), clutter
+// included, and nothing else of the scan changes.
+TEST(SyntheticScene, A2dRadarReportsTheSameDetectionsOnItsOwnPlane) {
+  syn::SyntheticDatasetParams p = smallParams(17, 1);
+  const syn::SyntheticFrame three_d = syn::SyntheticDataset(p).frame(0);
+  p.radar.measures_elevation = false;
+  const syn::SyntheticFrame two_d = syn::SyntheticDataset(p).frame(0);
+  ASSERT_EQ(three_d.radar.size(), two_d.radar.size());
+  ASSERT_GT(two_d.radar.size(), 40u);
+  int off_plane = 0;
+  for (std::size_t i = 0; i < two_d.radar.size(); ++i) {
+    const Eigen::Vector3f a = three_d.radar[i].position, b = two_d.radar[i].position;
+    EXPECT_EQ(b.z(), 0.0f) << i;
+    EXPECT_NEAR(b.norm(), a.norm(), 1e-4f * a.norm()) << i;
+    EXPECT_NEAR(std::atan2(b.y(), b.x()), std::atan2(a.y(), a.x()), 1e-5f) << i;
+    EXPECT_EQ(two_d.radar[i].clutter, three_d.radar[i].clutter) << i;
+    EXPECT_EQ(two_d.radar[i].rcs, three_d.radar[i].rcs) << i;
+    off_plane += std::abs(a.z()) > 0.1f;
+  }
+  EXPECT_GT(off_plane, 10);  // the 3D radar's were not on that plane
+  EXPECT_EQ(two_d.lidar.size(), three_d.lidar.size());
+}
+
 TEST(SyntheticScene, NoisyReturnsLieOnTheSurfacesWithinTheSimulatedNoise) {
   const std::string root = freshDir("noisy");
   const syn::SyntheticDatasetParams p = smallParams(12);
@@ -600,14 +624,14 @@ TEST(SyntheticScene, ToolTakesTheSceneVariationsAndRejectsBadOnes) {
                           "--camera-height 2.2 --camera-pitch -4 --lidar-beams 16 "
                           "--radar-candidates 500 --radar-clutter 0.2 --vehicles 3 "
                           "--pedestrians 5 --poles 4 --speed 10 --radar-pass-through 0.9 "
-                          "--radar-ghosts 0.4 --radar-ghost-max-factor 1.8");
+                          "--radar-ghosts 0.4 --radar-ghost-max-factor 1.8 --radar-2d");
   ASSERT_EQ(ok.exit_code, 0) << ok.output;
   const std::string meta = readBytes(root + "/scene.json");
   for (const char* key :
        {"\"camera_height\": 2.2", "\"camera_pitch_deg\": -4", "\"lidar_beams\": 16",
         "\"radar_candidates\": 500", "\"pedestrians\": 5", "\"extra_poles\": 4",
         "\"extra_vehicles\": 3", "\"radar_pass_through\": 0.9", "\"radar_ghosts\": 0.4",
-        "\"radar_ghost_range_factor_max\": 1.8"}) {
+        "\"radar_ghost_range_factor_max\": 1.8", "\"radar_measures_elevation\": false"}) {
     EXPECT_NE(meta.find(key), std::string::npos) << key << " not in " << meta;
   }
   const struct {

@@ -98,6 +98,10 @@ struct RadarParams {
   /// surface. 0 by default (see pass_through).
   double ghosts = 0.0;
   double ghost_range_factor_max = 2.0;
+  /// false: a 2D radar (nuScenes' front radar, Continental ARS-class): it measures range and
+  /// azimuth but not elevation, so every detection is reported on the radar's own horizontal
+  /// plane (elevation 0) at its measured range and azimuth. The random sequence is the same.
+  bool measures_elevation = true;
 };
 
 /// One radar return in the radar frame, as the VoD record x, y, z, RCS, v_r, v_r_compensated, time.
