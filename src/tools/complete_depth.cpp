@@ -273,7 +273,7 @@ double computeFrame(const Options& o, const FrameJob& job, const LoadedFrame& f,
   json["points_non_finite"] = s.points_non_finite;
   json["points_in_view"] = s.points_in_view;
   json["neighbour_sets"] = s.neighbour_sets;
-  mm::cli::addModelChoices(s, json);  // ground_gp, image_guided: which plane and mode ran
+  mm::cli::addModelChoices(s, json);  // ground_gp, image_guided: what the model chose
   json["shift"] = mm::json::number(s.shift, 6);
   json["threads"] = completer.threads();
   json["compute_ms"] = mm::json::number(times.front(), 6);
