@@ -58,6 +58,7 @@ DepthCompletionSettings settingsFromConfig(const DepthCompletionConfig& config) 
   g.prior_colour_fill_deg = config.guided_prior_colour_fill_deg;
   g.prior_weight = config.guided_prior_weight;
   g.prior_reference_density = config.guided_prior_reference_density;
+  g.prior_weight_above_returns = config.guided_prior_weight_above_returns;
   g.far_depth = config.guided_far_depth;
   g.ground_prior = config.guided_ground_prior;
   g.surface_prior = config.guided_surface_prior;
@@ -128,6 +129,7 @@ void writeSettingsToConfig(const DepthCompletionSettings& settings, DepthComplet
   config.guided_prior_colour_fill_deg = g.prior_colour_fill_deg;
   config.guided_prior_weight = g.prior_weight;
   config.guided_prior_reference_density = g.prior_reference_density;
+  config.guided_prior_weight_above_returns = g.prior_weight_above_returns;
   config.guided_far_depth = g.far_depth;
   config.guided_ground_prior = g.ground_prior;
   config.guided_surface_prior = g.surface_prior;

@@ -817,6 +817,8 @@ TEST(ConfigMapping, DefaultsAreTheCoreDefaultsExceptRetention) {
   EXPECT_EQ(settings.params.ground.surface_colour_walls, core.ground.surface_colour_walls);
   EXPECT_EQ(settings.params.guided.prior_colour_fill_deg, core.guided.prior_colour_fill_deg);
   EXPECT_EQ(settings.params.guided.prior_reference_density, core.guided.prior_reference_density);
+  EXPECT_EQ(settings.params.guided.prior_weight_above_returns,
+            core.guided.prior_weight_above_returns);
   EXPECT_EQ(settings.params.ground.surface_colour_fill_deg, core.ground.surface_colour_fill_deg);
   EXPECT_EQ(settings.params.ground.drop_hidden_returns, core.ground.drop_hidden_returns);
   EXPECT_EQ(settings.params.ground.dense_vote_colour_sigma, core.ground.dense_vote_colour_sigma);
@@ -836,14 +838,15 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   config.ground_drop_hidden_returns = true;  // the default is false
   config.guided_prior_colour_sigma = 12.5;
   config.ground_surface_colour_sigma = 7.5;
-  config.guided_prior_colour_walls = false;      // the default is true
-  config.ground_surface_colour_walls = false;    // the default is true
-  config.guided_prior_colour_fill_deg = 4.5;     // the default is 10
-  config.guided_prior_reference_density = 0.0;   // the default is 0.1
-  config.ground_surface_colour_fill_deg = 6.5;   // the default is 0
-  config.ground_dense_vote_colour_sigma = 0.0;   // the default is 40
-  config.ground_dense_vote_colour_px = 24.0;     // the default is 16
-  config.ground_dense_edge_ratio_per_deg = 0.0;  // the default is 0.15
+  config.guided_prior_colour_walls = false;        // the default is true
+  config.ground_surface_colour_walls = false;      // the default is true
+  config.guided_prior_colour_fill_deg = 4.5;       // the default is 10
+  config.guided_prior_reference_density = 0.0;     // the default is 0.1
+  config.guided_prior_weight_above_returns = 1.0;  // the default is 10
+  config.ground_surface_colour_fill_deg = 6.5;     // the default is 0
+  config.ground_dense_vote_colour_sigma = 0.0;     // the default is 40
+  config.ground_dense_vote_colour_px = 24.0;       // the default is 16
+  config.ground_dense_edge_ratio_per_deg = 0.0;    // the default is 0.15
   const mm::DepthCompletionSettings settings = mm::settingsFromConfig(config);
   EXPECT_EQ(settings.params.guided.prior_colour_sigma, 12.5);
   EXPECT_EQ(settings.params.ground.surface_colour_sigma, 7.5);
@@ -851,6 +854,7 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   EXPECT_FALSE(settings.params.ground.surface_colour_walls);
   EXPECT_EQ(settings.params.guided.prior_colour_fill_deg, 4.5);
   EXPECT_EQ(settings.params.guided.prior_reference_density, 0.0);
+  EXPECT_EQ(settings.params.guided.prior_weight_above_returns, 1.0);
   EXPECT_EQ(settings.params.ground.surface_colour_fill_deg, 6.5);
   EXPECT_EQ(settings.params.ground.dense_vote_colour_sigma, 0.0);
   EXPECT_EQ(settings.params.ground.dense_vote_colour_px, 24.0);
@@ -875,6 +879,7 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   EXPECT_FALSE(back.ground_surface_colour_walls);
   EXPECT_EQ(back.guided_prior_colour_fill_deg, 4.5);
   EXPECT_EQ(back.guided_prior_reference_density, 0.0);
+  EXPECT_EQ(back.guided_prior_weight_above_returns, 1.0);
   EXPECT_EQ(back.ground_surface_colour_fill_deg, 6.5);
   EXPECT_EQ(back.ground_dense_vote_colour_sigma, 0.0);
   EXPECT_EQ(back.ground_dense_vote_colour_px, 24.0);
@@ -892,6 +897,9 @@ TEST(ConfigMapping, RoundTripsAndRejectsBadValues) {
   config.length_scale_min = 0.1;
   config.model = "image_guided";
   config.guided_prior_reference_density = -1.0;
+  EXPECT_THROW(mm::settingsFromConfig(config), mm::InputError);
+  config.guided_prior_reference_density = 0.1;
+  config.guided_prior_weight_above_returns = 0.0;
   EXPECT_THROW(mm::settingsFromConfig(config), mm::InputError);
 }
 

@@ -175,6 +175,9 @@ void ImageGuidedParams::validate(const GroundPriorParams& plane) const {
   if (!(prior_reference_density >= 0.0) || !std::isfinite(prior_reference_density)) {
     fail("prior_reference_density must be finite and >= 0");
   }
+  if (!(prior_weight_above_returns > 0.0) || !std::isfinite(prior_weight_above_returns)) {
+    fail("prior_weight_above_returns must be finite and > 0");
+  }
   if (std::isnan(sky_max_warmth)) fail("sky_max_warmth must be a number");
   const double non_negative[] = {sky_gradient, sky_brightness, sky_sigma, relative_sigma,
                                  return_relative_sigma};

@@ -196,6 +196,12 @@ void declareDepthModelOptions(CLI::App& app, DepthModelOptions& o) {
                  "weight follows the frame's density in proportion (x0.25..x10; 0: fixed)")
       ->check(atLeast(0))
       ->group(guided);
+  app.add_option("--guided-prior-weight-above-returns", ig.prior_weight_above_returns,
+                 "with ground_gp's prior: the prior weighs this many times more above the "
+                 "returns' band (all but the highest 2 % of them; 1: the same everywhere; not on a "
+                 "2D scanner's single scan plane)")
+      ->check(positive())
+      ->group(guided);
   app.add_option("--guided-far-depth", ig.far_depth, "depth of the sky and above the horizon")
       ->check(positive())
       ->group(guided);

@@ -27,6 +27,7 @@
 #include "multimodal_nvs/core/depth/ground_plane_estimate.hpp"
 #include "multimodal_nvs/core/depth/ground_prior.hpp"
 #include "multimodal_nvs/core/depth/models/nearest_model.hpp"
+#include "multimodal_nvs/core/depth/return_band.hpp"
 #include "multimodal_nvs/core/depth/return_density.hpp"
 
 namespace multimodal_nvs {
@@ -132,6 +133,16 @@ ReturnPixels returnPixels(const std::vector<AngularSample>& samples, const Pixel
                                    [](const auto& a, const auto& b) { return a.first == b.first; }),
                        pixels.nearest.end());
   return pixels;
+}
+
+/// The elevation (degrees) of each return's pixel.
+std::vector<float> returnElevations(const ReturnPixels& returns, const PixelAngleGrid& angles) {
+  const int cols = angles.grid().cols();
+  std::vector<float> elevations;
+  elevations.reserve(returns.nearest.size());
+  for (const auto& [pixel, depth] : returns.nearest)
+    elevations.push_back(angles.elevationRow(int(pixel / cols))[pixel % cols]);
+  return elevations;
 }
 
 /// returnPixels' top_row alone (the sky test needs no return depths).
@@ -244,18 +255,48 @@ int takeOverModelPrior(const float* __restrict model, float far, int cols,
   return unusable;
 }
 
-/// One row of the prior's evidence sums (w, w x, w x^2; x = 1 / depth): prior_weight at every
-/// pixel. The returns are added afterwards (addReturnEvidence).
-void priorEvidenceRow(const float* __restrict prior, float far, float prior_weight, int cols,
-                      float* __restrict sum_w, float* __restrict sum_wx,
-                      float* __restrict sum_wxx) {
+/// One row of the prior's evidence sums (w, w x, w x^2; x = 1 / depth), the prior weighing
+/// `prior_weight[c]` at pixel c. The returns are added afterwards (addReturnEvidence).
+void priorEvidenceRow(const float* __restrict prior, float far,
+                      const float* __restrict prior_weight, int cols, float* __restrict sum_w,
+                      float* __restrict sum_wx, float* __restrict sum_wxx) {
   for (int c = 0; c < cols; ++c) {
     const float xp = 1.0f / std::min(prior[c], far);
-    sum_w[c] = prior_weight;
-    sum_wx[c] = prior_weight * xp;
-    sum_wxx[c] = prior_weight * xp * xp;
+    sum_w[c] = prior_weight[c];
+    sum_wx[c] = prior_weight[c] * xp;
+    sum_wxx[c] = prior_weight[c] * xp * xp;
   }
 }
+
+/// The prior's weight per grid pixel: `weight`, times `above_factor` at the pixels whose
+/// elevation lies above `band_top` (degrees; NaN: nowhere).
+class PriorWeights {
+ public:
+  PriorWeights(const PixelAngleGrid& angles, float weight, float band_top, float above_factor)
+      : angles_(angles),
+        band_top_(band_top),
+        below_(angles.grid().cols(), weight),
+        above_(angles.grid().cols(), weight * above_factor) {}
+
+  /// Row r's weights: one of two constant rows where the whole row lies on one side of the band
+  /// (most rows), else written into `scratch` (cols floats).
+  const float* row(int r, float* __restrict scratch) const {
+    // NaN compares false: no pixel is above an unknown band.
+    if (!(angles_.maxElevation(r) > band_top_)) return below_.data();
+    if (angles_.minElevation(r) > band_top_) return above_.data();
+    const int cols = angles_.grid().cols();
+    const float* __restrict elevation = angles_.elevationRow(r);
+    const float below = below_[0], above = above_[0];
+    for (int c = 0; c < cols; ++c)
+      scratch[c] = elevation[c] > band_top_ ? above : below;
+    return scratch;
+  }
+
+ private:
+  const PixelAngleGrid& angles_;
+  float band_top_;
+  std::vector<float> below_, above_;
+};
 
 /// A return's evidence (weight 1) added to the prior's at its pixel.
 void addReturnEvidence(const ReturnPixels& returns, std::vector<cv::Mat>& sums) {
@@ -302,7 +343,7 @@ class OwnPrior {
 
 struct DepthFromEvidence {
   float far;
-  float prior_weight;     // per grid pixel
+  float prior_weight;     // per grid pixel, without the factor above the returns (the floor)
   float return_relative;  // a return's relative std
   float prior_relative;   // the prior's relative std
 };
@@ -316,10 +357,10 @@ struct DepthFromEvidence {
 /// the model-prior loop scalar ("control flow in loop"), ~14 % of the radar default at VoD's full
 /// resolution.
 template <bool kModelPrior>
-void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict sum_w,
-                          const float* __restrict sum_wx, const float* __restrict sum_wxx,
-                          const float* __restrict prior_variance, int cols, float* __restrict mean,
-                          float* __restrict variance) {
+void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict prior_weight,
+                          const float* __restrict sum_w, const float* __restrict sum_wx,
+                          const float* __restrict sum_wxx, const float* __restrict prior_variance,
+                          int cols, float* __restrict mean, float* __restrict variance) {
   // The smoother keeps sums positive up to rounding; the floor keeps the ratio finite.
   const float weight_floor = e.prior_weight * 1e-3f, x_floor = 1.0f / e.far;
   for (int c = 0; c < cols; ++c) {
@@ -327,7 +368,7 @@ void depthFromEvidenceRow(const DepthFromEvidence& e, const float* __restrict su
     const float x = maxOf(sum_wx[c] / w, x_floor);
     const float spread_x = maxOf(sum_wxx[c] / w - x * x, 0.0f);
     const float depth = minOf(1.0f / x, e.far);
-    const float prior_share = minOf(1.0f, e.prior_weight / w);
+    const float prior_share = minOf(1.0f, prior_weight[c] / w);
     const float mixing = spread_x * depth * depth * depth * depth;
     const float relative = e.return_relative + (e.prior_relative - e.return_relative) * prior_share;
     float v = mixing + (relative * depth) * (relative * depth);
@@ -424,7 +465,18 @@ ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
                                                                        g.prior_reference_density)
                                                : g.prior_weight;
   const float prior_weight = static_cast<float>(weight * grid_pixel_area);
-  // Per worker: the own prior's row, the model's row and the prior taken over from it.
+  // Above the returns' band the smoother would only extrapolate the returns below it upward;
+  // ground_gp's prior weighs more there (ImageGuidedParams::prior_weight_above_returns). A 2D
+  // scanner's returns all lie on its plane's rows: no band to speak of.
+  const bool weigh_above_band =
+      model_prior != nullptr && !ground.single_scan_plane && g.prior_weight_above_returns != 1.0;
+  const PriorWeights prior_weights(
+      angles, prior_weight,
+      weigh_above_band ? returnBandTop(returnElevations(returns, angles)) : std::nanf(""),
+      static_cast<float>(g.prior_weight_above_returns));
+  // Per worker: the prior's weights of a row; with a model prior, the own prior's row, the
+  // model's row and the prior taken over from it.
+  PerWorker<std::vector<float>> weight_rows(pool.size(), std::vector<float>(cols));
   PerWorker<std::vector<float>> row_scratch(model_prior != nullptr ? pool.size() : 0,
                                             std::vector<float>(3 * std::size_t(cols)));
   pool.parallelFor(
@@ -451,7 +503,8 @@ ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
           }
           prior_row = taken;
         }
-        priorEvidenceRow(prior_row, far, prior_weight, cols, sums[0].ptr<float>(r),
+        const float* weights = prior_weights.row(r, weight_rows[worker].data());
+        priorEvidenceRow(prior_row, far, weights, cols, sums[0].ptr<float>(r),
                          sums[1].ptr<float>(r), sums[2].ptr<float>(r));
       },
       16);
@@ -477,12 +530,13 @@ ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
         const std::uint8_t* sky_row = sky.empty() ? nullptr : sky.data() + i;
         const float *sum_w = sums[0].ptr<float>(r), *sum_wx = sums[1].ptr<float>(r),
                     *sum_wxx = sums[2].ptr<float>(r);
+        const float* weights = prior_weights.row(r, weight_rows[worker].data());
         if (model_prior != nullptr) {
-          depthFromEvidenceRow<true>(to_depth, sum_w, sum_wx, sum_wxx,
+          depthFromEvidenceRow<true>(to_depth, weights, sum_w, sum_wx, sum_wxx,
                                      model_prior->variance(r, row_scratch[worker].data()), cols,
                                      out.mean.data() + i, out.variance.data() + i);
         } else {
-          depthFromEvidenceRow<false>(to_depth, sum_w, sum_wx, sum_wxx, nullptr, cols,
+          depthFromEvidenceRow<false>(to_depth, weights, sum_w, sum_wx, sum_wxx, nullptr, cols,
                                       out.mean.data() + i, out.variance.data() + i);
         }
         if (sky_row != nullptr)

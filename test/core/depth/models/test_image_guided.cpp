@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <opencv2/core.hpp>
+#include <tuple>
 #include <vector>
 
 #include "core/scene_fixtures.hpp"
@@ -208,6 +209,62 @@ TEST(ImageGuided, ReturnsOnOneScanPlaneIgnoreTheEdgesBetweenRows) {
     differ +=
         std::abs(off_plane.depth[i] - off_plane_uniform.depth[i]) > 1e-3f * off_plane.depth[i];
   EXPECT_GT(differ, 100);  // 3D returns: the edge between rows holds
+}
+
+// Above the band of the returns' elevations (all but the highest 2 % of them) ground_gp's prior
+// weighs prior_weight_above_returns times more. With a smoother too weak to move evidence, a
+// return's pixel holds the mean of its return and the prior weighed 1 : w in inverse depth: w
+// the prior's weight within the band, ten times it above. A 2D scanner's returns (one scan plane,
+// no measured elevation) have no band: the factor changes nothing.
+TEST(ImageGuided, GroundGpPriorWeighsMoreAboveTheReturnsBand) {
+  const cv::Mat image = uniformGray();
+  // 98 returns on rows 60-100 of 120 and two high above them (rows 10 and 20): the top 2 %.
+  std::vector<Eigen::Vector3d> returns;
+  for (int i = 0; i < 98; ++i)
+    returns.push_back(
+        pointOnPixelRay(smallCamera(), (i * 13) % 150 + 5, 60 + (i * 7) % 41, 6.0 + 0.2 * i));
+  returns.push_back(pointOnPixelRay(smallCamera(), 40, 10, 30.0));
+  returns.push_back(pointOnPixelRay(smallCamera(), 120, 20, 4.0));
+  mm::DepthCompleter completer(2);
+  mm::DepthCompletionParams gp = groundGp();
+  gp.guided.prior_step_px = 1;
+  const auto prior = completer.complete(returns, smallCamera(), {smallImage(), 1}, gp, image);
+  mm::DepthCompletionParams p = priorShowsThrough();
+  p.guided.prior_step_px = 1;
+  p.guided.prior_weight = 0.5;             // large, so that the prior's share shows
+  p.guided.prior_reference_density = 0.0;  // the weight as given
+  p.guided.prior_weight_above_returns = 10.0;
+  const auto above = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  const auto mean_of = [&](int u, int v, double depth, double w) {
+    const double x_prior = 1.0 / at(prior, v, u);
+    return float((w + 1.0) / (w * x_prior + 1.0 / depth));
+  };
+  for (const auto& [u, v, depth] : {std::make_tuple(40, 10, 30.0), std::make_tuple(120, 20, 4.0)})
+    EXPECT_NEAR(at(above, v, u), mean_of(u, v, depth, 5.0), 1e-3f * depth) << u << " " << v;
+  // A return within the band: the prior's own weight.
+  const Eigen::Vector3d& inside = returns[10];
+  const int u = (10 * 13) % 150 + 5, v = 60 + (10 * 7) % 41;
+  EXPECT_NEAR(at(above, v, u), mean_of(u, v, inside.z(), 0.5), 1e-3f * inside.z());
+  p.guided.prior_weight_above_returns = 1.0;
+  const auto even = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  EXPECT_NEAR(at(even, 10, 40), mean_of(40, 10, 30.0, 0.5), 1e-3f * 30.0f);
+  EXPECT_GT(std::abs(at(even, 10, 40) - at(above, 10, 40)), 0.1f);
+
+  // The same returns on one scan plane through the camera (a 2D radar's).
+  std::vector<Eigen::Vector3d> scan_plane;
+  for (int i = 0; i < 16; ++i) {
+    const double z = 6.0 + 1.5 * i;
+    scan_plane.emplace_back(0.5 * z * std::sin(0.9 * i), 0.0, z);
+  }
+  p.guided.prior_weight_above_returns = 1.0;
+  const auto plane_even =
+      completer.complete(scan_plane, smallCamera(), {smallImage(), 1}, p, image);
+  p.guided.prior_weight_above_returns = 10.0;
+  const auto plane_above =
+      completer.complete(scan_plane, smallCamera(), {smallImage(), 1}, p, image);
+  EXPECT_TRUE(plane_above.stats.ground_single_scan_plane);
+  EXPECT_EQ(plane_above.depth, plane_even.depth);
+  EXPECT_EQ(plane_above.variance, plane_even.variance);
 }
 
 // With ground_gp's prior the prior's weight follows the returns' density: a reference density a
