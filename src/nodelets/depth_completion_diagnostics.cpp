@@ -1,6 +1,7 @@
 #include "depth_completion_diagnostics.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace multimodal_nvs {
 
@@ -37,6 +38,7 @@ void DepthCompletionDiagnostics::countPublished(double latency_ms, const DepthMa
     counts.ground_roll_deg = stats.ground_roll_deg;
     counts.guided_return_density = stats.guided_return_density;
     counts.guided_prior_weight = stats.guided_prior_weight;
+    counts.guided_band_top_deg = stats.guided_band_top_deg;
   });
 }
 
@@ -89,6 +91,11 @@ void DepthCompletionDiagnostics::report(diagnostic_updater::DiagnosticStatusWrap
     if (total.guided_prior_weight >= 0.0) {
       status.addf("returns per square degree", "%.3f", total.guided_return_density);
       status.addf("image_guided prior weight", "%.2e", total.guided_prior_weight);
+      // Above this elevation no return measured the scene; the prior weighed more there.
+      if (std::isfinite(total.guided_band_top_deg))
+        status.addf("returns' band top (deg)", "%.2f", total.guided_band_top_deg);
+      else
+        status.add("returns' band top (deg)", "none (the prior weighs the same everywhere)");
     }
     if (rejected_window > 0) {
       status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,

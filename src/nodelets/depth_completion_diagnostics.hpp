@@ -4,6 +4,7 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <array>
 #include <atomic>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -50,6 +51,8 @@ class DepthCompletionDiagnostics {
     double ground_camera_height = -1.0, ground_pitch_deg = 0.0, ground_roll_deg = 0.0;
     /// The latest image_guided frame's return density and prior weight (-1: another model).
     double guided_return_density = -1.0, guided_prior_weight = -1.0;
+    /// The latest image_guided frame's band top (NaN: the prior weighed the same everywhere).
+    double guided_band_top_deg = std::numeric_limits<double>::quiet_NaN();
   };
 
   WindowedCounters<Counts> counters_;

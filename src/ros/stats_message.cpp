@@ -29,6 +29,7 @@ DepthCompletionStatsPtr statsMessage(const DepthMapStats& stats, const std_msgs:
   message->ground_roll_deg = static_cast<float>(stats.ground_roll_deg);
   message->guided_return_density = static_cast<float>(stats.guided_return_density);
   message->guided_prior_weight = static_cast<float>(stats.guided_prior_weight);
+  message->guided_band_top_deg = static_cast<float>(stats.guided_band_top_deg);
   return message;
 }
 

@@ -340,6 +340,9 @@ TEST_F(PipelineTest, DiagnosticsReportTheGroundPlaneOfTheLatestFrame) {
     std::snprintf(weight, sizeof weight, "%.2e", last.guided_prior_weight);
     EXPECT_EQ(value("returns per square degree"), density);
     EXPECT_EQ(value("image_guided prior weight"), weight);
+    char band_top[32];
+    std::snprintf(band_top, sizeof band_top, "%.2f", last.guided_band_top_deg);
+    EXPECT_EQ(value("returns' band top (deg)"), band_top);
   } else {
     EXPECT_EQ(value("image_guided prior weight"), "(missing)");
   }
@@ -410,9 +413,14 @@ TEST_F(PipelineTest, StatsAndCloudAgreeWithTheMask) {
       const double factor =
           std::clamp(stats->guided_return_density / reference_density, 0.25, 10.0);
       EXPECT_NEAR(stats->guided_prior_weight, prior_weight * factor, 1e-5 * prior_weight);
+      // The synthetic 3D radar's returns end below the top of the image: a band, within the
+      // camera's vertical view.
+      EXPECT_TRUE(std::isfinite(stats->guided_band_top_deg));
+      EXPECT_LT(std::abs(stats->guided_band_top_deg), 30.0f);
     } else {
       EXPECT_EQ(stats->guided_return_density, -1.0f);
       EXPECT_EQ(stats->guided_prior_weight, -1.0f);
+      EXPECT_TRUE(std::isnan(stats->guided_band_top_deg));
     }
   }
   ASSERT_FALSE(o.points.empty());

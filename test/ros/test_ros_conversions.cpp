@@ -405,6 +405,7 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   stats.ground_roll_deg = 1.5;
   stats.guided_return_density = 0.093;
   stats.guided_prior_weight = 0.00093;
+  stats.guided_band_top_deg = 2.75;
   std_msgs::Header header;
   header.stamp = ros::Time(5.0);
   header.frame_id = "camera";
@@ -429,6 +430,7 @@ TEST(StatsMessage, CarriesTheCoreStatsTheGroundPlaneAndTheLatency) {
   EXPECT_FLOAT_EQ(message->ground_roll_deg, 1.5f);
   EXPECT_FLOAT_EQ(message->guided_return_density, 0.093f);
   EXPECT_FLOAT_EQ(message->guided_prior_weight, 0.00093f);
+  EXPECT_FLOAT_EQ(message->guided_band_top_deg, 2.75f);
 }
 
 TEST(StatsMessage, TheGroundPlanePolygonIsTheRoadOfTheStatsInTheImagesFrame) {
@@ -466,6 +468,7 @@ TEST(StatsMessage, ModelsWithoutAGroundPlaneSayNoneRan) {
   EXPECT_FLOAT_EQ(message->ground_camera_height, -1.0f);
   EXPECT_FLOAT_EQ(message->guided_return_density, -1.0f);
   EXPECT_FLOAT_EQ(message->guided_prior_weight, -1.0f);
+  EXPECT_TRUE(std::isnan(message->guided_band_top_deg));
 }
 
 sensor_msgs::CameraInfo makeInfo() {

@@ -196,6 +196,12 @@ TEST(CompleteDepthTool, WithoutAPoseTheGroundIsTheHeightAndPitchGivenAndAPoseWin
   EXPECT_NEAR(number_after("guided_prior_weight"), 0.002 * std::clamp(density / 0.1, 0.25, 10.0),
               1e-3 * 0.002)
       << guided.output;
+  // The synthetic 3D radar leaves the image's top above its returns: the band's top is reported.
+  EXPECT_NE(guided.output.find("\"guided_band_top_deg\": "), std::string::npos) << guided.output;
+  const auto even = runTool("--vod-root " + scene + " --frame 0 --model image_guided --output " +
+                            dir() + "cd_guided_even --guided-prior-weight-above-returns 1");
+  ASSERT_EQ(even.exit_code, 0) << even.output;
+  EXPECT_EQ(even.output.find("guided_band_top_deg"), std::string::npos) << even.output;
 }
 
 // Many frames in one process run as a pipeline (the next frame read while one is completed, the

@@ -122,6 +122,7 @@ void DepthCompleter::complete(const std::vector<Eigen::Vector3d>& points_camera,
                                           image, &ground, &model_scratch_, &guided);
   stats.guided_return_density = guided.return_density;
   stats.guided_prior_weight = guided.prior_weight;
+  stats.guided_band_top_deg = guided.band_top_deg;
   if (params.model == DepthModel::kGroundGp || params.model == DepthModel::kImageGuided) {
     stats.ground_source = toString(ground.source);
     stats.ground_mode = ground.dense ? "dense" : ground.tiled_residual ? "sparse_tiled" : "sparse";

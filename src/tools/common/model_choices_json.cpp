@@ -1,5 +1,7 @@
 #include "model_choices_json.hpp"
 
+#include <cmath>
+
 namespace multimodal_nvs {
 namespace cli {
 
@@ -18,6 +20,8 @@ void addModelChoices(const DepthMapStats& s, json::Json& out) {
   if (s.guided_prior_weight < 0.0) return;  // not image_guided
   out["guided_return_density"] = json::number(s.guided_return_density, 4);
   out["guided_prior_weight"] = json::number(s.guided_prior_weight, 4);
+  if (std::isfinite(s.guided_band_top_deg))
+    out["guided_band_top_deg"] = json::number(s.guided_band_top_deg, 4);
 }
 
 }  // namespace cli

@@ -2,6 +2,7 @@
 // DepthCompleter: the whole pipeline, points -> angular samples -> model -> validity -> retention.
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
@@ -49,6 +50,10 @@ struct DepthMapStats {
   /// prior's evidence weight per image pixel that followed from them (ImageGuidedReport).
   double guided_return_density = -1.0;
   double guided_prior_weight = -1.0;
+  /// image_guided with ground_gp's prior: the top of the returns' band (degrees of elevation),
+  /// above which the prior weighed more (ImageGuidedParams::prior_weight_above_returns); NaN
+  /// where it weighed the same everywhere.
+  double guided_band_top_deg = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Dense depth on the stride grid, in the reference's layout: depth in metres (camera z), -1 where

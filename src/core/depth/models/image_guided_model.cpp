@@ -470,10 +470,10 @@ ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
   // scanner's returns all lie on its plane's rows: no band to speak of.
   const bool weigh_above_band =
       model_prior != nullptr && !ground.single_scan_plane && g.prior_weight_above_returns != 1.0;
-  const PriorWeights prior_weights(
-      angles, prior_weight,
-      weigh_above_band ? returnBandTop(returnElevations(returns, angles)) : std::nanf(""),
-      static_cast<float>(g.prior_weight_above_returns));
+  const float band_top =
+      weigh_above_band ? returnBandTop(returnElevations(returns, angles)) : std::nanf("");
+  const PriorWeights prior_weights(angles, prior_weight, band_top,
+                                   static_cast<float>(g.prior_weight_above_returns));
   // Per worker: the prior's weights of a row; with a model prior, the own prior's row, the
   // model's row and the prior taken over from it.
   PerWorker<std::vector<float>> weight_rows(pool.size(), std::vector<float>(cols));
@@ -543,7 +543,7 @@ ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
           writeSky(sky_row, cols, g, out.mean.data() + i, out.variance.data() + i);
       },
       16);
-  return {density, weight};
+  return {density, weight, band_top};
 }
 
 }  // namespace multimodal_nvs

@@ -249,6 +249,10 @@ TEST(ImageGuided, GroundGpPriorWeighsMoreAboveTheReturnsBand) {
   const auto even = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
   EXPECT_NEAR(at(even, 10, 40), mean_of(40, 10, 30.0, 0.5), 1e-3f * 30.0f);
   EXPECT_GT(std::abs(at(even, 10, 40) - at(above, 10, 40)), 0.1f);
+  // The stats say where the band ended: the third highest return, on row 60 (the principal
+  // point's, elevation 0); no band with the factor 1.
+  EXPECT_NEAR(above.stats.guided_band_top_deg, 0.0, 1e-6);
+  EXPECT_TRUE(std::isnan(even.stats.guided_band_top_deg));
 
   // The same returns on one scan plane through the camera (a 2D radar's).
   std::vector<Eigen::Vector3d> scan_plane;
@@ -263,6 +267,7 @@ TEST(ImageGuided, GroundGpPriorWeighsMoreAboveTheReturnsBand) {
   const auto plane_above =
       completer.complete(scan_plane, smallCamera(), {smallImage(), 1}, p, image);
   EXPECT_TRUE(plane_above.stats.ground_single_scan_plane);
+  EXPECT_TRUE(std::isnan(plane_above.stats.guided_band_top_deg));
   EXPECT_EQ(plane_above.depth, plane_even.depth);
   EXPECT_EQ(plane_above.variance, plane_even.variance);
 }

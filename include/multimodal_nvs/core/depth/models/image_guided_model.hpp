@@ -3,6 +3,7 @@
 // changes only where the image has an edge (the fast global smoother of Min et al., "Fast Global
 // Image Smoothing Based on Weighted Least Squares", 2014, from OpenCV's ximgproc).
 #include <cstdint>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -28,6 +29,9 @@ struct ImageGuidedReport {
   /// The prior's evidence weight per image pixel this frame used: guided.prior_weight, times the
   /// density's factor with ground_gp's prior (priorWeightForDensity).
   double prior_weight = -1.0;
+  /// The top of the returns' band (degrees of elevation) above which the prior weighed
+  /// prior_weight_above_returns times more; NaN where it weighed the same everywhere.
+  double band_top_deg = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// `image_guided` (image_guided_model.cpp). `ground`: chooseGround's plane (the ground prior and
