@@ -152,9 +152,9 @@ struct ImageGuidedParams {
   /// the smoother could only carry the returns below upward along the image, an extrapolation,
   /// while ground_gp's prior extrapolates with the scene's geometry (a return that looks like the
   /// pixel continued as a wall along the view). Chosen on the synthetic dev scenes (covered PSNR
-  /// dB / coverage / preview PSNR dB / MAE m: 1: 22.04 / 0.59 / 18.54 / 6.85, 10: 22.18 / 0.60 /
-  /// 18.64 / 6.62, 30: 22.22 / 0.60 / 18.68 / 6.50); 10 because VoD's radar MAE (00549/01047,
-  /// stride 1) moves 3.193 -> 3.205 m at 10 and 3.223 at 30 (README, "Depth that follows the
+  /// dB / coverage / preview PSNR dB / MAE m: 1: 22.04 / 0.59 / 18.54 / 6.85, 10: 22.19 / 0.60 /
+  /// 18.64 / 6.62, 30: 22.24 / 0.60 / 18.67 / 6.49); 10 because VoD's radar MAE (00549/01047,
+  /// stride 2) moves 3.19 -> 3.20 m at 10 and 3.22 at 30 (README, "Depth that follows the
   /// image").
   double prior_weight_above_returns = 10.0;
   double far_depth = 100.0;  ///< metres: depth above the horizon and of the sky (GEN3C clamp)

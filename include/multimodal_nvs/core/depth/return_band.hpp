@@ -1,7 +1,7 @@
 #pragma once
 // Where a sensor's returns stop: the top of the band of elevations they cover. A radar's vertical
-// field of view is narrow (VoD's returns end about 3 degrees above the horizon at 45 % of the
-// image's height), so above that band the image shows surfaces no return measured.
+// field of view is narrow (VoD's returns end about 3 degrees above the optical axis, 45 % of
+// the way down the image), so above that band the image shows surfaces no return measured.
 #include <vector>
 
 namespace multimodal_nvs {
