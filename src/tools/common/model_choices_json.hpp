@@ -10,7 +10,8 @@ namespace cli {
 /// Adds to `out`, for a model with a ground plane (ground_mode not empty), ground_source,
 /// ground_mode, the fit's shares, the hidden returns, the edge ratio, whether the returns lie on
 /// one scan plane and the plane used (camera height, pitch, roll); for image_guided also
-/// guided_return_density and guided_prior_weight. Nothing for the other models.
+/// guided_return_density, guided_prior_weight and, where the prior weighed more above the
+/// returns' band, guided_band_top_deg. Nothing for the other models.
 void addModelChoices(const DepthMapStats& stats, json::Json& out);
 
 }  // namespace cli

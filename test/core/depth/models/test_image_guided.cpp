@@ -118,6 +118,18 @@ std::vector<Eigen::Vector3d> threeReturns() {
           pointOnPixelRay(smallCamera(), 70, 90, 6.0)};
 }
 
+/// Sixteen returns on the camera's horizontal plane (y = 0), one scan plane through the sensor as
+/// a 2D radar's, 6-28.5 m away, scattered in azimuth (not on one line, so that the same returns
+/// lifted off the plane fit no other plane).
+std::vector<Eigen::Vector3d> scanPlaneReturns() {
+  std::vector<Eigen::Vector3d> returns;
+  for (int i = 0; i < 16; ++i) {
+    const double z = 6.0 + 1.5 * i;
+    returns.emplace_back(0.5 * z * std::sin(0.9 * i), 0.0, z);
+  }
+  return returns;
+}
+
 cv::Mat uniformGray() {
   return cv::Mat(smallImage().height, smallImage().width, CV_8UC3, cv::Scalar::all(128));
 }
@@ -179,13 +191,7 @@ TEST(ImageGuided, GroundGpPriorIsGroundGpsPrediction) {
 TEST(ImageGuided, ReturnsOnOneScanPlaneIgnoreTheEdgesBetweenRows) {
   cv::Mat rows_only(smallImage().height, kCols, CV_8UC3, cv::Scalar::all(40));
   rows_only.rowRange(0, 75).setTo(cv::Scalar::all(200));  // an edge between rows 74 and 75
-  // Sixteen returns on the camera's horizontal plane (y = 0), 6-28.5 m away, scattered in azimuth
-  // (not on one line, so that the returns lifted off the plane below fit no other plane).
-  std::vector<Eigen::Vector3d> scan_plane;
-  for (int i = 0; i < 16; ++i) {
-    const double z = 6.0 + 1.5 * i;
-    scan_plane.emplace_back(0.5 * z * std::sin(0.9 * i), 0.0, z);
-  }
+  const std::vector<Eigen::Vector3d> scan_plane = scanPlaneReturns();
   std::vector<Eigen::Vector3d> three_d = scan_plane;
   for (std::size_t i = 0; i < three_d.size(); ++i)
     three_d[i].y() = (i % 2 == 0 ? 0.4 : -0.4);  // 0.4 m above and below: no longer one plane
@@ -254,12 +260,8 @@ TEST(ImageGuided, GroundGpPriorWeighsMoreAboveTheReturnsBand) {
   EXPECT_NEAR(above.stats.guided_band_top_deg, 0.0, 1e-6);
   EXPECT_TRUE(std::isnan(even.stats.guided_band_top_deg));
 
-  // The same returns on one scan plane through the camera (a 2D radar's).
-  std::vector<Eigen::Vector3d> scan_plane;
-  for (int i = 0; i < 16; ++i) {
-    const double z = 6.0 + 1.5 * i;
-    scan_plane.emplace_back(0.5 * z * std::sin(0.9 * i), 0.0, z);
-  }
+  // Returns on one scan plane through the camera (a 2D radar's).
+  const std::vector<Eigen::Vector3d> scan_plane = scanPlaneReturns();
   p.guided.prior_weight_above_returns = 1.0;
   const auto plane_even =
       completer.complete(scan_plane, smallCamera(), {smallImage(), 1}, p, image);
