@@ -18,6 +18,7 @@ target_include_directories(multimodal_nvs_core SYSTEM PRIVATE ${MMNVS_DEFLATE_IN
 target_link_libraries(multimodal_nvs_core PRIVATE ${MMNVS_DEFLATE_LIBRARY})
 set_target_properties(multimodal_nvs_core PROPERTIES POSITION_INDEPENDENT_CODE ON)
 mmnvs_local_template_symbols(multimodal_nvs_core)
+mmnvs_precompile_headers(multimodal_nvs_core)
 
 # PCD files go through PCL's reader. Only pcl_common and pcl_io, by file: the pcl_io target's
 # interface would add VTK, OpenNI and libusb to every program that links the core. One file includes

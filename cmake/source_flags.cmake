@@ -13,5 +13,8 @@ function(mmnvs_source_flags)
       message(FATAL_ERROR "per-file flags ${ARG_OPTIONS}: ${source} is not a source of ${ARG_TARGET}")
     endif()
     set_property(SOURCE ${path} APPEND PROPERTY COMPILE_OPTIONS ${ARG_OPTIONS})
+    # Compiled exactly as its flags say, without the target's precompiled headers
+    # (precompiled_headers.cmake).
+    set_property(SOURCE ${path} PROPERTY SKIP_PRECOMPILE_HEADERS ON)
   endforeach()
 endfunction()

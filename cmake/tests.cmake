@@ -11,6 +11,7 @@ function(mmnvs_add_gtest name)
   # test_core writes PCD fixtures with PCL, whose calls would otherwise bind to the test's copies.
   mmnvs_local_template_symbols(${name})
   target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR}/test)
+  mmnvs_precompile_headers(${name} TESTS)
   target_compile_definitions(${name} PRIVATE
     MMNVS_DATA_DIR_DEFAULT="${MMNVS_DATA_DIR_DEFAULT}"
     MMNVS_TOOL_DIR="${CATKIN_DEVEL_PREFIX}/lib/${PROJECT_NAME}")
