@@ -298,15 +298,33 @@ class PriorWeights {
   std::vector<float> below_, above_;
 };
 
-/// A return's evidence (weight 1) added to the prior's at its pixel.
-void addReturnEvidence(const ReturnPixels& returns, std::vector<cv::Mat>& sums) {
+// With ground_gp's prediction as the prior, a return whose depth is less than the prior's at its
+// pixel by this factor weighs kIsolatedFrontWeight instead of 1. That prior is the nearest surface
+// among the pixel's neighbouring returns, so such a return has no neighbour that agrees with it:
+// radar clutter and multipath drawn at a random range, not a surface (real radars put 0-6 % of
+// their returns 20 % or more in front of the LiDAR's surface, against 42-51 % behind it). Measured
+// at stride 1 (radar MAE m): VoD 00549/01047 3.202 -> 3.166, Astyx 4.404 -> 4.393, nuScenes 5.441
+// -> 5.405; the synthetic scenes' novel views within 0.06 dB each.
+constexpr float kIsolatedFrontRatio = 1.6f;
+constexpr float kIsolatedFrontWeight = 0.1f;
+
+/// A return's evidence (weight 1) added to the prior's at its pixel; with `isolated_in_front`, a
+/// return far in front of the prior there (the sums hold only the prior's evidence until now)
+/// weighs kIsolatedFrontWeight.
+void addReturnEvidence(const ReturnPixels& returns, bool isolated_in_front,
+                       std::vector<cv::Mat>& sums) {
   float *sum_w = sums[0].ptr<float>(0), *sum_wx = sums[1].ptr<float>(0),
         *sum_wxx = sums[2].ptr<float>(0);
+  // Each pixel holds at most one return (returnPixels), so every prior read here is the prior's.
   for (const auto& [i, depth] : returns.nearest) {
     const float x = 1.0f / depth;
-    sum_w[i] = sum_w[i] + 1.0f;
-    sum_wx[i] = sum_wx[i] + x;
-    sum_wxx[i] = sum_wxx[i] + x * x;
+    // depth * ratio < prior depth = sum_w / sum_wx, written without the division (sum_w > 0).
+    const bool in_front =
+        isolated_in_front && sum_w[i] > 0.0f && depth * kIsolatedFrontRatio * sum_wx[i] < sum_w[i];
+    const float w = in_front ? kIsolatedFrontWeight : 1.0f;
+    sum_w[i] = sum_w[i] + w;
+    sum_wx[i] = sum_wx[i] + w * x;
+    sum_wxx[i] = sum_wxx[i] + w * x * x;
   }
 }
 
@@ -508,7 +526,7 @@ ImageGuidedReport predictImageGuided(const std::vector<AngularSample>& samples,
                          sums[1].ptr<float>(r), sums[2].ptr<float>(r));
       },
       16);
-  addReturnEvidence(returns, sums);
+  addReturnEvidence(returns, model_prior != nullptr, sums);
   const cv::Mat edge_guide = g.edges ? guide : cv::Mat(rows, cols, CV_8UC3, cv::Scalar::all(128));
   // A 2D scanner's returns (all on one scan plane) project to its plane's rows, not to their
   // surfaces' (their elevation is not measured): the image's edges between rows say nothing about

@@ -242,8 +242,10 @@ TEST(ImageGuided, GroundGpPriorWeighsMoreAboveTheReturnsBand) {
   p.guided.prior_weight_above_returns = 10.0;
   const auto above = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
   const auto mean_of = [&](int u, int v, double depth, double w) {
-    const double x_prior = 1.0 / at(prior, v, u);
-    return float((w + 1.0) / (w * x_prior + 1.0 / depth));
+    const double prior_depth = at(prior, v, u), x_prior = 1.0 / prior_depth;
+    // A return far in front of the prior weighs a tenth (the test below): the one at 4 m is.
+    const double r = depth * 1.6 < prior_depth ? 0.1 : 1.0;
+    return float((w + r) / (w * x_prior + r / depth));
   };
   for (const auto& [u, v, depth] : {std::make_tuple(40, 10, 30.0), std::make_tuple(120, 20, 4.0)})
     EXPECT_NEAR(at(above, v, u), mean_of(u, v, depth, 5.0), 1e-3f * depth) << u << " " << v;
@@ -272,6 +274,40 @@ TEST(ImageGuided, GroundGpPriorWeighsMoreAboveTheReturnsBand) {
   EXPECT_TRUE(std::isnan(plane_above.stats.guided_band_top_deg));
   EXPECT_EQ(plane_above.depth, plane_even.depth);
   EXPECT_EQ(plane_above.variance, plane_even.variance);
+}
+
+// With ground_gp's prior, a return far nearer than the prior at its pixel (no neighbouring return
+// agrees with it: clutter) weighs a tenth of a return; one nearer by less keeps its full weight.
+TEST(ImageGuided, GroundGpPriorOutweighsAReturnFarInFrontOfIt) {
+  const cv::Mat image = uniformGray();
+  // A wall of returns at 18-22 m over rows 50-100, and two returns in front of it near the
+  // middle: one at 5 m (far in front), one at 15 m (in front by less than the rule's factor).
+  std::vector<Eigen::Vector3d> returns;
+  for (int i = 0; i < 60; ++i)
+    returns.push_back(
+        pointOnPixelRay(smallCamera(), (i * 17) % 140 + 10, 50 + (i * 11) % 51, 18.0 + 0.07 * i));
+  returns.push_back(pointOnPixelRay(smallCamera(), 75, 72, 5.0));
+  returns.push_back(pointOnPixelRay(smallCamera(), 110, 64, 15.0));
+  mm::DepthCompleter completer(2);
+  mm::DepthCompletionParams gp = groundGp();
+  gp.guided.prior_step_px = 1;
+  const auto prior = completer.complete(returns, smallCamera(), {smallImage(), 1}, gp, image);
+  mm::DepthCompletionParams p = priorShowsThrough();
+  p.guided.prior_step_px = 1;
+  p.guided.prior_weight = 0.5;             // large, so that the prior's share shows
+  p.guided.prior_reference_density = 0.0;  // the weight as given
+  p.guided.prior_weight_above_returns = 1.0;
+  const auto out = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  const auto mean_of = [&](int u, int v, double depth, double return_weight) {
+    const double w = 0.5, x_prior = 1.0 / at(prior, v, u);
+    return float((w + return_weight) / (w * x_prior + return_weight / depth));
+  };
+  // The precondition: the prior at the 5 m return lies beyond 1.6 x 5 m, at the 15 m one within.
+  ASSERT_GT(at(prior, 72, 75), 1.6f * 5.0f);
+  ASSERT_LT(at(prior, 64, 110), 1.6f * 15.0f);
+  EXPECT_NEAR(at(out, 72, 75), mean_of(75, 72, 5.0, 0.1), 1e-3f * 5.0f);
+  EXPECT_GT(std::abs(at(out, 72, 75) - mean_of(75, 72, 5.0, 1.0)), 0.1f);
+  EXPECT_NEAR(at(out, 64, 110), mean_of(110, 64, 15.0, 1.0), 1e-3f * 15.0f);
 }
 
 // With ground_gp's prior the prior's weight follows the returns' density: a reference density a
