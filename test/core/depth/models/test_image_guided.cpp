@@ -152,6 +152,34 @@ mm::DepthCompletionParams priorShowsThrough() {
   p.guided.ground_gp_prior = true;
   return p;
 }
+
+/// ground_gp's depth at every pixel (its prior grid at step 1), the prior of the model below.
+mm::DepthMap groundGpAtEveryPixel(mm::DepthCompleter& completer,
+                                  const std::vector<Eigen::Vector3d>& returns,
+                                  const cv::Mat& image) {
+  mm::DepthCompletionParams gp = groundGp();
+  gp.guided.prior_step_px = 1;
+  return completer.complete(returns, smallCamera(), {smallImage(), 1}, gp, image);
+}
+
+/// priorShowsThrough() with the prior at every pixel and a large fixed weight, so that at a
+/// return's pixel the prior's share of the mean shows.
+constexpr double kLargePriorWeight = 0.5;
+mm::DepthCompletionParams priorMixesWithReturns(double weight_above_returns) {
+  mm::DepthCompletionParams p = priorShowsThrough();
+  p.guided.prior_step_px = 1;
+  p.guided.prior_weight = kLargePriorWeight;
+  p.guided.prior_reference_density = 0.0;  // the weight as given
+  p.guided.prior_weight_above_returns = weight_above_returns;
+  return p;
+}
+
+/// The depth of the inverse-depth mean of a return (weight `return_weight`) and the prior
+/// (`prior_depth`, weight `prior_weight`).
+float mixedDepth(double prior_depth, double prior_weight, double depth, double return_weight) {
+  return float((prior_weight + return_weight) /
+               (prior_weight / prior_depth + return_weight / depth));
+}
 }  // namespace
 
 // With ground_gp's prediction as the prior and a smoother too weak to move evidence, every pixel
@@ -232,30 +260,24 @@ TEST(ImageGuided, GroundGpPriorWeighsMoreAboveTheReturnsBand) {
   returns.push_back(pointOnPixelRay(smallCamera(), 40, 10, 30.0));
   returns.push_back(pointOnPixelRay(smallCamera(), 120, 20, 4.0));
   mm::DepthCompleter completer(2);
-  mm::DepthCompletionParams gp = groundGp();
-  gp.guided.prior_step_px = 1;
-  const auto prior = completer.complete(returns, smallCamera(), {smallImage(), 1}, gp, image);
-  mm::DepthCompletionParams p = priorShowsThrough();
-  p.guided.prior_step_px = 1;
-  p.guided.prior_weight = 0.5;             // large, so that the prior's share shows
-  p.guided.prior_reference_density = 0.0;  // the weight as given
-  p.guided.prior_weight_above_returns = 10.0;
+  const auto prior = groundGpAtEveryPixel(completer, returns, image);
+  mm::DepthCompletionParams p = priorMixesWithReturns(10.0);
   const auto above = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
   const auto mean_of = [&](int u, int v, double depth, double w) {
-    const double prior_depth = at(prior, v, u), x_prior = 1.0 / prior_depth;
     // A return far in front of the prior weighs a tenth (the test below): the one at 4 m is.
-    const double r = depth * 1.6 < prior_depth ? 0.1 : 1.0;
-    return float((w + r) / (w * x_prior + r / depth));
+    const double prior_depth = at(prior, v, u);
+    return mixedDepth(prior_depth, w, depth, depth * 1.6 < prior_depth ? 0.1 : 1.0);
   };
   for (const auto& [u, v, depth] : {std::make_tuple(40, 10, 30.0), std::make_tuple(120, 20, 4.0)})
-    EXPECT_NEAR(at(above, v, u), mean_of(u, v, depth, 5.0), 1e-3f * depth) << u << " " << v;
+    EXPECT_NEAR(at(above, v, u), mean_of(u, v, depth, 10.0 * kLargePriorWeight), 1e-3f * depth)
+        << u << " " << v;
   // A return within the band: the prior's own weight.
   const Eigen::Vector3d& inside = returns[10];
   const int u = (10 * 13) % 150 + 5, v = 60 + (10 * 7) % 41;
-  EXPECT_NEAR(at(above, v, u), mean_of(u, v, inside.z(), 0.5), 1e-3f * inside.z());
+  EXPECT_NEAR(at(above, v, u), mean_of(u, v, inside.z(), kLargePriorWeight), 1e-3f * inside.z());
   p.guided.prior_weight_above_returns = 1.0;
   const auto even = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
-  EXPECT_NEAR(at(even, 10, 40), mean_of(40, 10, 30.0, 0.5), 1e-3f * 30.0f);
+  EXPECT_NEAR(at(even, 10, 40), mean_of(40, 10, 30.0, kLargePriorWeight), 1e-3f * 30.0f);
   EXPECT_GT(std::abs(at(even, 10, 40) - at(above, 10, 40)), 0.1f);
   // The stats say where the band ended: the third highest return, on row 60 (the principal
   // point's, elevation 0); no band with the factor 1.
@@ -289,18 +311,11 @@ TEST(ImageGuided, GroundGpPriorOutweighsAReturnFarInFrontOfIt) {
   returns.push_back(pointOnPixelRay(smallCamera(), 75, 72, 5.0));
   returns.push_back(pointOnPixelRay(smallCamera(), 110, 64, 15.0));
   mm::DepthCompleter completer(2);
-  mm::DepthCompletionParams gp = groundGp();
-  gp.guided.prior_step_px = 1;
-  const auto prior = completer.complete(returns, smallCamera(), {smallImage(), 1}, gp, image);
-  mm::DepthCompletionParams p = priorShowsThrough();
-  p.guided.prior_step_px = 1;
-  p.guided.prior_weight = 0.5;             // large, so that the prior's share shows
-  p.guided.prior_reference_density = 0.0;  // the weight as given
-  p.guided.prior_weight_above_returns = 1.0;
-  const auto out = completer.complete(returns, smallCamera(), {smallImage(), 1}, p, image);
+  const auto prior = groundGpAtEveryPixel(completer, returns, image);
+  const auto out = completer.complete(returns, smallCamera(), {smallImage(), 1},
+                                      priorMixesWithReturns(1.0), image);
   const auto mean_of = [&](int u, int v, double depth, double return_weight) {
-    const double w = 0.5, x_prior = 1.0 / at(prior, v, u);
-    return float((w + return_weight) / (w * x_prior + return_weight / depth));
+    return mixedDepth(at(prior, v, u), kLargePriorWeight, depth, return_weight);
   };
   // The precondition: the prior at the 5 m return lies beyond 1.6 x 5 m, at the 15 m one within.
   ASSERT_GT(at(prior, 72, 75), 1.6f * 5.0f);
