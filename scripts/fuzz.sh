@@ -132,18 +132,10 @@ run_harness() {
 # still gets its full time on a core of its own; the results are printed in the harnesses' order.
 parallel=$JOBS
 [[ -n "$FORK" ]] && parallel=1
-mkdir -p "$BUILD/logs"
-running=()
 for fuzzer in "${fuzzers[@]}"; do
   rm -f "$BUILD/logs/$fuzzer.result"
-  while ((${#running[@]} >= parallel)); do
-    wait -n
-    still=()
-    for pid in "${running[@]}"; do kill -0 "$pid" 2>/dev/null && still+=("$pid"); done
-    running=("${still[@]}")
-  done
+  while (($(jobs -pr | wc -l) >= parallel)); do wait -n; done
   run_harness "$fuzzer" &
-  running+=("$!")
 done
 wait
 # The verdicts are the result files' (a harness that left none failed).
